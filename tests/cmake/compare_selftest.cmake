@@ -1,0 +1,25 @@
+# Runs firmware-selftest on the host and the board image under qemu and requires identical section digests.
+if(NOT EXISTS "${TARGET_ELF}")
+  message(FATAL_ERROR "${TARGET_ELF} is missing: build the ${BOARD} preset first "
+                      "(cmake --preset ${BOARD} && cmake --build --preset ${BOARD}; scripts/test does both)")
+endif()
+execute_process(COMMAND "${HOST_EXE}" OUTPUT_VARIABLE host_out ERROR_VARIABLE host_err RESULT_VARIABLE host_rc)
+execute_process(COMMAND qemu-system-arm -M ${MACHINE} -nographic -monitor none -serial none
+                        -semihosting-config enable=on,target=native -kernel "${TARGET_ELF}"
+                OUTPUT_VARIABLE target_stdout ERROR_VARIABLE target_out RESULT_VARIABLE target_rc TIMEOUT 240)
+message("host:\n${host_out}")
+message("${BOARD}:\n${target_out}")
+string(REGEX MATCHALL "section [a-z0-9_]+ 0x[0-9a-f]+" host_sections "${host_out}")
+string(REGEX MATCHALL "section [a-z0-9_]+ 0x[0-9a-f]+" target_sections "${target_out}")
+string(REGEX MATCH "digest 0x[0-9a-f]+" host_digest "${host_out}")
+string(REGEX MATCH "digest 0x[0-9a-f]+" target_digest "${target_out}")
+if(host_sections STREQUAL "" OR host_digest STREQUAL "")
+  message(FATAL_ERROR "the host self-test printed no digest (exit ${host_rc})")
+endif()
+if(NOT host_sections STREQUAL target_sections OR NOT host_digest STREQUAL target_digest)
+  message(FATAL_ERROR "host and ${BOARD} results differ: not bit-identical")
+endif()
+if(NOT host_rc EQUAL 0 OR NOT target_rc EQUAL 0)
+  message(FATAL_ERROR "digests agree but differ from the expected ones (host exit ${host_rc}, ${BOARD} exit ${target_rc})")
+endif()
+message("host and ${BOARD}: ${host_digest}, bit-identical")
