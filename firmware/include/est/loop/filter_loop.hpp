@@ -1,0 +1,204 @@
+#pragma once
+// The fixed-rate filter loop: inputs are queued in timestamp order and applied once they are older than the reorder
+// window behind the newest input, so the outputs depend only on the inputs and their timestamps, never on when they
+// arrived or on the wall clock. Prediction runs at a fixed period of input time (e.g. 100 Hz) with the encoder ticks
+// accumulated since the last prediction; each scan is applied at its own time, after a prediction up to that time.
+// The clock is read only to time each step (deadline overruns are counted, results never depend on it).
+//
+// Estimator concept (adapters in est/loop/*_estimator.hpp):
+//   static constexpr bool kUsesSteering, kUsesScans;
+//   StepOutcome predict(const MotionInput&);
+//   StepOutcome correct(const ScanInput&);
+//   PoseEstimate estimate() const;
+#include <cstdint>
+
+#include "est/filter/particle_estimate.hpp"
+#include "est/loop/input_queue.hpp"
+#include "est/loop/inputs.hpp"
+#include "est/loop/status.hpp"
+
+namespace est::loop {
+
+struct LoopTiming {
+  TimeNs predict_period_ns = 10000000;     // 100 Hz
+  TimeNs reorder_window_ns = 20000000;     // inputs up to 20 ms late are still applied in order
+  TimeNs encoder_timeout_ns = 100000000;   // staleness limits
+  TimeNs steering_timeout_ns = 100000000;
+  TimeNs scan_timeout_ns = 500000000;
+  TimeNs step_deadline_ns = 5000000;       // budget of one predict or correct step, as measured by the clock
+  std::uint32_t max_catch_up_predictions = 100;  // after a longer gap in the inputs, the loop jumps (one prediction)
+};
+
+struct MotionInput {
+  float dt_s;
+  std::int32_t left_ticks;   // increments since the previous prediction
+  std::int32_t right_ticks;
+  float steering_rad;        // the latest steering sample (sample and hold)
+  bool steering_known;
+};
+
+enum class StepOutcome : std::uint8_t { applied, rejected, degenerate };
+
+struct LoopOutput {
+  TimeNs t_ns;
+  PoseEstimate estimate;
+  std::uint32_t status;  // est::loop::status bits
+  const LoopCounters* counters;
+};
+
+template <typename Estimator, std::uint32_t QueueCapacity, std::int32_t KMax, std::uint32_t ScanSlots = 2>
+class FilterLoop {
+ public:
+  FilterLoop(Estimator& estimator, const LoopTiming& timing) : est_(estimator), timing_(timing) {}
+
+  // Queue an input. False (and counted) when it is older than what was already applied, or there is no room.
+  template <typename Input>
+  bool push(const Input& in) {
+    if (applied_any_ && in.t_ns < applied_t_) {
+      ++counters_.too_old;
+      sticky_ |= status::kInputTooOld;
+      return false;
+    }
+    if (!queue_.push(in)) {
+      ++counters_.queue_full;
+      sticky_ |= status::kQueueFull;
+      return false;
+    }
+    ++counters_.inputs;
+    if (!seen_any_ || in.t_ns > newest_t_) newest_t_ = in.t_ns;
+    seen_any_ = true;
+    return true;
+  }
+
+  // Applies every queued input older than the newest input minus the reorder window. Bounded by the queue size.
+  template <typename Clock, typename Sink>
+  void run(Clock& clock, Sink& sink) {
+    while (!queue_.empty() && queue_.front_time() <= newest_t_ - timing_.reorder_window_ns) apply_front(clock, sink);
+  }
+
+  // Applies everything queued (end of a replay, or shutdown).
+  template <typename Clock, typename Sink>
+  void flush(Clock& clock, Sink& sink) {
+    while (!queue_.empty()) apply_front(clock, sink);
+  }
+
+  const LoopCounters& counters() const { return counters_; }
+  std::uint32_t pending() const { return queue_.size(); }
+
+ private:
+  template <typename Clock, typename Sink>
+  void apply_front(Clock& clock, Sink& sink) {
+    const QueuedInput q = queue_.front();
+    const TimeNs t = q.t_ns;
+    if (!applied_any_) {
+      applied_any_ = true;
+      last_predict_t_ = t;
+      next_predict_t_ = t + timing_.predict_period_ns;
+    }
+    // Fixed-rate predictions up to t, each followed by an output.
+    std::uint32_t catch_up = 0;
+    while (next_predict_t_ <= t) {
+      if (++catch_up > timing_.max_catch_up_predictions) {  // a gap in the inputs: one prediction across it
+        next_predict_t_ = t;
+        predict_to(clock, t);
+        next_predict_t_ = t + timing_.predict_period_ns;
+        publish(sink, t);
+        break;
+      }
+      predict_to(clock, next_predict_t_);
+      publish(sink, next_predict_t_);
+      next_predict_t_ += timing_.predict_period_ns;
+    }
+    applied_t_ = t;
+    switch (q.kind) {
+      case InputKind::wheel_ticks:
+        pending_left_ += q.ticks.left_ticks;
+        pending_right_ += q.ticks.right_ticks;
+        last_encoder_t_ = t;
+        have_encoder_ = true;
+        queue_.pop();
+        break;
+      case InputKind::steering:
+        steering_rad_ = q.steering.angle_rad;
+        last_steering_t_ = t;
+        have_steering_ = true;
+        queue_.pop();
+        break;
+      case InputKind::scan: {
+        if (t > last_predict_t_) predict_to(clock, t);
+        const TimeNs t0 = clock();
+        const StepOutcome o = est_.correct(queue_.scan(q));
+        account(o, clock() - t0);
+        if (o != StepOutcome::rejected) ++counters_.corrections;
+        last_scan_t_ = t;
+        have_scan_ = true;
+        queue_.pop();
+        publish(sink, t);
+        break;
+      }
+    }
+  }
+
+  template <typename Clock>
+  void predict_to(Clock& clock, TimeNs t) {
+    const MotionInput m{static_cast<float>(t - last_predict_t_) * 1.0e-9f, pending_left_, pending_right_, steering_rad_,
+                        have_steering_};
+    const TimeNs t0 = clock();
+    const StepOutcome o = est_.predict(m);
+    account(o, clock() - t0);
+    if (o != StepOutcome::rejected) {
+      ++counters_.predictions;
+      pending_left_ = 0;
+      pending_right_ = 0;
+    }
+    last_predict_t_ = t;
+  }
+
+  void account(StepOutcome o, TimeNs took) {
+    if (o == StepOutcome::rejected) {
+      ++counters_.rejected;
+      sticky_ |= status::kInputRejected;
+    } else if (o == StepOutcome::degenerate) {
+      ++counters_.degenerate;
+      sticky_ |= status::kFilterDegenerate;
+    }
+    if (took > counters_.worst_step_ns) counters_.worst_step_ns = took;
+    if (took > timing_.step_deadline_ns) {
+      ++counters_.overruns;
+      sticky_ |= status::kDeadlineOverrun;
+    }
+  }
+
+  template <typename Sink>
+  void publish(Sink& sink, TimeNs t) {
+    std::uint32_t s = sticky_;
+    if (!have_encoder_ || t - last_encoder_t_ > timing_.encoder_timeout_ns) {
+      s |= status::kEncoderTimeout;
+      ++counters_.encoder_timeouts;
+    }
+    if (Estimator::kUsesSteering && (!have_steering_ || t - last_steering_t_ > timing_.steering_timeout_ns)) {
+      s |= status::kSteeringTimeout;
+      ++counters_.steering_timeouts;
+    }
+    if (Estimator::kUsesScans && (!have_scan_ || t - last_scan_t_ > timing_.scan_timeout_ns)) {
+      s |= status::kScanTimeout;
+      ++counters_.scan_timeouts;
+    }
+    sink(LoopOutput{t, est_.estimate(), s, &counters_});
+    sticky_ = 0;
+  }
+
+  Estimator& est_;
+  LoopTiming timing_;
+  InputQueue<QueueCapacity, KMax, ScanSlots> queue_;
+  LoopCounters counters_;
+  std::uint32_t sticky_ = 0;
+  bool seen_any_ = false, applied_any_ = false;
+  bool have_encoder_ = false, have_steering_ = false, have_scan_ = false;
+  TimeNs newest_t_ = 0, applied_t_ = 0, last_predict_t_ = 0, next_predict_t_ = 0;
+  TimeNs last_encoder_t_ = 0, last_steering_t_ = 0, last_scan_t_ = 0;
+  std::int32_t pending_left_ = 0, pending_right_ = 0;
+  float steering_rad_ = 0.0f;
+};
+
+}  // namespace est::loop

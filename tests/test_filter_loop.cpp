@@ -1,0 +1,234 @@
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "est/loop/filter_loop.hpp"
+#include "est/random/xoshiro128.hpp"
+
+namespace {
+
+using est::loop::TimeNs;
+constexpr TimeNs kMs = 1000000;
+
+// Records every call, and integrates ticks into x so outputs depend on the order of calls.
+struct RecordingEstimator {
+  static constexpr bool kUsesSteering = true;
+  static constexpr bool kUsesScans = true;
+  struct Call {
+    char kind;
+    float dt_s;
+    std::int32_t left, right;
+    float steering;
+    float first_range;
+    bool operator==(const Call& o) const {
+      return kind == o.kind && dt_s == o.dt_s && left == o.left && right == o.right && steering == o.steering &&
+             first_range == o.first_range;
+    }
+  };
+  std::vector<Call> calls;
+  float x = 0.0f;
+  est::loop::StepOutcome predict(const est::loop::MotionInput& m) {
+    calls.push_back({'p', m.dt_s, m.left_ticks, m.right_ticks, m.steering_rad, 0.0f});
+    x += 0.001f * static_cast<float>(m.left_ticks + m.right_ticks) + 0.5f * m.steering_rad * m.dt_s;
+    return est::loop::StepOutcome::applied;
+  }
+  est::loop::StepOutcome correct(const est::loop::ScanInput& s) {
+    calls.push_back({'c', 0.0f, 0, 0, 0.0f, s.ranges[0]});
+    if (!(s.ranges[0] > 0.0f)) return est::loop::StepOutcome::rejected;
+    x = 0.5f * (x + s.ranges[0]);
+    return est::loop::StepOutcome::applied;
+  }
+  est::PoseEstimate estimate() const {
+    est::PoseEstimate e;
+    e.mean = {x, 0.0f, 0.0f};
+    return e;
+  }
+};
+
+struct SteadyClock {  // a step takes 1 us
+  TimeNs t = 0;
+  TimeNs operator()() { return t += 1000; }
+};
+
+struct Outputs {
+  std::vector<est::loop::LoopOutput> all;
+  void operator()(const est::loop::LoopOutput& o) { all.push_back(o); }
+};
+
+using Loop = est::loop::FilterLoop<RecordingEstimator, 64, 8, 2>;
+
+struct Stream {
+  std::vector<est::loop::WheelTicksInput> ticks;
+  std::vector<est::loop::SteeringInput> steer;
+  std::vector<std::pair<TimeNs, float>> scans;
+};
+
+Stream make_stream() {
+  Stream s;
+  for (int i = 1; i <= 100; ++i) s.ticks.push_back({i * 10 * kMs, i % 7, 2 * (i % 5)});   // 100 Hz encoders
+  for (int i = 1; i <= 50; ++i) s.steer.push_back({i * 20 * kMs + 3 * kMs, 0.01f * static_cast<float>(i)});
+  for (int i = 1; i <= 10; ++i) s.scans.push_back({i * 100 * kMs + 5 * kMs, 2.0f + 0.1f * static_cast<float>(i)});
+  return s;
+}
+
+// Feeds the stream in the given arrival order (indices into one list of all inputs).
+template <typename Order>
+std::pair<std::vector<RecordingEstimator::Call>, std::vector<float>> feed(const Stream& s, Order order,
+                                                                         std::uint32_t* dropped = nullptr) {
+  struct Item {
+    TimeNs t;
+    int kind;
+    std::size_t i;
+  };
+  std::vector<Item> items;
+  for (std::size_t i = 0; i < s.ticks.size(); ++i) items.push_back({s.ticks[i].t_ns, 0, i});
+  for (std::size_t i = 0; i < s.steer.size(); ++i) items.push_back({s.steer[i].t_ns, 1, i});
+  for (std::size_t i = 0; i < s.scans.size(); ++i) items.push_back({s.scans[i].first, 2, i});
+  std::sort(items.begin(), items.end(), [](const Item& a, const Item& b) { return a.t < b.t; });
+  order(items);
+  RecordingEstimator est;
+  est::loop::LoopTiming timing;
+  Loop loop(est, timing);
+  SteadyClock clock;
+  Outputs out;
+  float ranges[8] = {};
+  for (const Item& it : items) {
+    if (it.kind == 0) loop.push(s.ticks[it.i]);
+    if (it.kind == 1) loop.push(s.steer[it.i]);
+    if (it.kind == 2) {
+      ranges[0] = s.scans[it.i].second;
+      est::ScanLayout layout{0.0f, 0.1f, 8, 0.1f, 10.0f};
+      loop.push(est::loop::ScanInput{it.t, layout, ranges});
+    }
+    loop.run(clock, out);
+  }
+  loop.flush(clock, out);
+  if (dropped) *dropped = loop.counters().too_old;
+  std::vector<float> xs;
+  for (const auto& o : out.all) xs.push_back(o.estimate.mean.x);
+  return {est.calls, xs};
+}
+
+}  // namespace
+
+TEST_CASE("inputs shuffled within the reorder window give bit-identical calls and outputs", "[loop]") {
+  const Stream s = make_stream();
+  const auto in_order = feed(s, [](auto&) {});
+  // Swap neighbours up to 15 ms apart (the window is 20 ms): arrival order changes, timestamps do not.
+  const auto shuffled = feed(s, [](auto& items) {
+    est::Rng rng(3u);
+    for (std::size_t i = 0; i + 1 < items.size(); ++i)
+      if (items[i + 1].t - items[i].t <= 15 * kMs && rng.below(2u) == 1u) std::swap(items[i], items[i + 1]);
+  });
+  REQUIRE(in_order.first.size() > 100u);
+  CHECK(in_order.first == shuffled.first);
+  CHECK(in_order.second == shuffled.second);
+}
+
+TEST_CASE("prediction runs at the fixed period and consumes every tick exactly once", "[loop]") {
+  const Stream s = make_stream();
+  const auto r = feed(s, [](auto&) {});
+  std::int64_t left = 0, right = 0, in_left = 0, in_right = 0;
+  int fixed = 0;
+  for (const auto& c : r.first) {
+    if (c.kind != 'p') continue;
+    left += c.left;
+    right += c.right;
+    if (c.dt_s == Approx(0.01f)) ++fixed;
+  }
+  for (const auto& t : s.ticks) {
+    in_left += t.left_ticks;
+    in_right += t.right_ticks;
+  }
+  // The last scan (1.005 s) comes after the last encoder sample (1.000 s), so its prediction consumes every tick.
+  CHECK(left == in_left);
+  CHECK(right == in_right);
+  CHECK(fixed >= 90);  // 1 s at 100 Hz; the predictions split at the 10 scans are shorter
+}
+
+TEST_CASE("a scan is applied after a prediction up to its own time", "[loop]") {
+  const Stream s = make_stream();
+  const auto r = feed(s, [](auto&) {});
+  int scans = 0;
+  for (std::size_t i = 0; i < r.first.size(); ++i) {
+    if (r.first[i].kind != 'c') continue;
+    ++scans;
+    REQUIRE(i > 0);
+    CHECK(r.first[i - 1].kind == 'p');
+    CHECK(r.first[i - 1].dt_s == Approx(0.005f).epsilon(1e-3));  // scans at +5 ms past a 10 ms tick
+  }
+  CHECK(scans == 10);
+}
+
+TEST_CASE("an input older than what was applied is dropped and counted", "[loop]") {
+  const Stream s = make_stream();
+  std::uint32_t dropped = 0;
+  feed(s, [](auto& items) { std::rotate(items.begin() + 10, items.begin() + 11, items.begin() + 60); }, &dropped);
+  CHECK(dropped == 1u);  // item 10 arrives ~ 250 ms late, far beyond the 20 ms window
+}
+
+TEST_CASE("stale sensors, rejected inputs and overruns show in the status word", "[loop]") {
+  RecordingEstimator est;
+  est::loop::LoopTiming timing;
+  Loop loop(est, timing);
+  Outputs out;
+  struct SlowClock {  // every step takes 10 ms: over the 5 ms budget
+    TimeNs t = 0;
+    TimeNs operator()() { return t += 10 * kMs; }
+  } slow;
+  loop.push(est::loop::WheelTicksInput{0, 1, 1});
+  float bad[1] = {-1.0f};
+  loop.push(est::loop::ScanInput{300 * kMs, est::ScanLayout{0.0f, 0.1f, 1, 0.1f, 10.0f}, bad});
+  loop.flush(slow, out);
+  REQUIRE(!out.all.empty());
+  const auto last = out.all.back();
+  CHECK((last.status & est::loop::status::kEncoderTimeout) != 0u);   // no encoder sample for 300 ms
+  CHECK((last.status & est::loop::status::kSteeringTimeout) != 0u);  // never any steering
+  CHECK((last.status & est::loop::status::kInputRejected) != 0u);    // the scan with a negative range
+  CHECK((last.status & est::loop::status::kDeadlineOverrun) != 0u);
+  CHECK(loop.counters().rejected == 1u);
+  CHECK(loop.counters().overruns > 0u);
+  CHECK(loop.counters().worst_step_ns == 10 * kMs);
+}
+
+TEST_CASE("the clock never changes the estimates, only the timing figures", "[loop]") {
+  auto run = [](TimeNs step) {
+    RecordingEstimator est;
+    Loop loop(est, est::loop::LoopTiming{});
+    Outputs out;
+    struct C {
+      TimeNs t, step;
+      TimeNs operator()() { return t += step; }
+    } clock{0, step};
+    for (int i = 1; i <= 50; ++i) {
+      loop.push(est::loop::WheelTicksInput{i * 10 * kMs, 3, 4});
+      loop.run(clock, out);
+    }
+    loop.flush(clock, out);
+    std::vector<float> xs;
+    for (const auto& o : out.all) xs.push_back(o.estimate.mean.x);
+    return xs;
+  };
+  CHECK(run(1000) == run(50 * kMs));
+}
+
+TEST_CASE("a gap in the inputs is bridged by one prediction, not thousands", "[loop]") {
+  RecordingEstimator est;
+  Loop loop(est, est::loop::LoopTiming{});
+  Outputs out;
+  SteadyClock clock;
+  loop.push(est::loop::WheelTicksInput{0, 0, 0});
+  loop.push(est::loop::WheelTicksInput{60LL * 1000 * kMs, 5, 5});  // one minute later
+  loop.flush(clock, out);
+  CHECK(est.calls.size() <= 101u);
+  CHECK(est.calls.back().dt_s > 58.0f);
+}
+
+TEST_CASE("a full queue drops and counts instead of overwriting", "[loop]") {
+  RecordingEstimator est;
+  est::loop::FilterLoop<RecordingEstimator, 4, 8, 1> loop(est, est::loop::LoopTiming{});
+  for (int i = 0; i < 6; ++i) loop.push(est::loop::WheelTicksInput{i * kMs, 1, 1});  // all within the window
+  CHECK(loop.pending() == 4u);
+  CHECK(loop.counters().queue_full == 2u);
+}
