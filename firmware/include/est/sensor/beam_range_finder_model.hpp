@@ -1,0 +1,147 @@
+#pragma once
+// Beam model of range finders, Probabilistic Robotics table 6.1 (eq. 6.4-6.12): per beam the mixture
+//   p(z | z*) = z_hit p_hit + z_short p_short + z_max p_max + z_rand p_rand,
+//   p_hit   = N(z; z*, sigma_hit^2) truncated to [0, z_max] and divided by its mass there (eq. 6.5-6.6),
+//   p_short = lambda e^{-lambda z} on [0, z*], divided by 1 - e^{-lambda z*} (eq. 6.7-6.8),
+//   p_max   = a discrete atom at z_max of mass z_max (the weight). For density comparisons the atom is spread as a
+//             uniform density 1 / max_bin_width over a bin of that width: a max reading's density is
+//             z_hit p_hit(z_max) + z_short p_short(z_max) + z_max / max_bin_width (the continuous parts carry no
+//             mass at a point, so the total mass stays 1),
+//   p_rand  = 1 / z_max on [0, z_max) (eq. 6.11).
+// So the continuous parts integrate to z_hit + z_short + z_rand over [0, z_max) and the atom adds z_max: 1 in all
+// (tested). One exception, stated: when z* < 1e-6 / lambda (the sensor is inside an obstacle) p_short has no room
+// and is 0, and the mixture then integrates to 1 - z_short.
+//
+// Log-likelihoods are sums of per-beam log densities (per metre), each floored at kBeamLogDensityFloor
+// (log 1e-30), so a scan's log-likelihood is never -inf or NaN; a non-finite pose gets the floor on every beam.
+#include <cstdint>
+
+#include "est/geometry/pose2.hpp"
+#include "est/math/fmath.hpp"
+#include "est/math/normal.hpp"
+#include "est/sensor/range_scan.hpp"
+
+namespace est {
+
+inline constexpr float kBeamLogDensityFloor = -69.0775527898f;  // log(1e-30)
+
+enum class SensorModelStatus : std::uint8_t {
+  ok = 0,
+  nonfinite,      // a parameter is NaN or infinite
+  bad_weights,    // a weight is negative, or the weights do not sum to 1 within 1e-3
+  bad_sigma,      // a standard deviation <= 0
+  bad_lambda,     // lambda_short <= 0
+  bad_range,      // range_max <= 0
+  bad_bin,        // max_bin_width <= 0
+  bad_distance,   // likelihood field max_distance <= 0
+  not_ready,      // configure() was not called or failed, or the map is missing
+};
+
+struct BeamModelParams {
+  float z_hit = 0.80f;
+  float z_short = 0.10f;
+  float z_max = 0.05f;
+  float z_rand = 0.05f;
+  float sigma_hit = 0.2f;      // m
+  float lambda_short = 0.5f;   // 1/m
+  float range_max = 30.0f;     // m: the book's z_max as a range
+  float max_bin_width = 0.05f; // m: width of the bin a max reading's atom is spread over
+};
+
+class BeamRangeFinderModel {
+ public:
+  SensorModelStatus configure(const BeamModelParams& p) {
+    ready_ = false;
+    const float all[8] = {p.z_hit, p.z_short, p.z_max, p.z_rand, p.sigma_hit, p.lambda_short, p.range_max,
+                          p.max_bin_width};
+    for (float v : all)
+      if (!fmath::isfinite(v)) return SensorModelStatus::nonfinite;
+    if (p.z_hit < 0.0f || p.z_short < 0.0f || p.z_max < 0.0f || p.z_rand < 0.0f) return SensorModelStatus::bad_weights;
+    const float sum = p.z_hit + p.z_short + p.z_max + p.z_rand;
+    if (fmath::abs(sum - 1.0f) > 1e-3f) return SensorModelStatus::bad_weights;
+    if (!(p.sigma_hit > 0.0f)) return SensorModelStatus::bad_sigma;
+    if (!(p.lambda_short > 0.0f)) return SensorModelStatus::bad_lambda;
+    if (!(p.range_max > 0.0f)) return SensorModelStatus::bad_range;
+    if (!(p.max_bin_width > 0.0f)) return SensorModelStatus::bad_bin;
+    p_ = p;
+    inv_sigma_ = 1.0f / p.sigma_hit;
+    hit_coeff_ = p.z_hit * 0.39894228040143267794f * inv_sigma_;
+    rand_density_ = p.z_rand / p.range_max;
+    max_density_ = p.z_max / p.max_bin_width;
+    ready_ = true;
+    return SensorModelStatus::ok;
+  }
+  bool ready() const { return ready_; }
+  const BeamModelParams& params() const { return p_; }
+
+  // Mixture density (per metre) of reading z given the expected range z_exp, both clamped to [0, range_max];
+  // z >= range_max is a max reading. Non-finite z or z_exp give 0 (the caller floors the log).
+  float density(float z, float z_exp) const {
+    if (!fmath::isfinite(z) || !fmath::isfinite(z_exp)) return 0.0f;
+    const float zm = p_.range_max;
+    const bool is_max = z >= zm;
+    if (z < 0.0f) z = 0.0f;
+    if (is_max) z = zm;
+    if (z_exp < 0.0f) z_exp = 0.0f;
+    if (z_exp > zm) z_exp = zm;
+
+    float p = is_max ? max_density_ : rand_density_;
+    // p_hit: beyond 12 sigma the Gaussian is below 1e-31 relative, under the floor.
+    const float u = (z - z_exp) * inv_sigma_;
+    if (u > -12.0f && u < 12.0f) {
+      // Mass of N(z*, sigma^2) in [0, z_max]; exactly 1 to float precision more than 5.5 sigma from both ends.
+      float mass = 1.0f;
+      const float a = (0.0f - z_exp) * inv_sigma_;
+      const float b = (zm - z_exp) * inv_sigma_;
+      if (a > -5.5f || b < 5.5f) mass = normal_cdf(b) - normal_cdf(a);
+      if (mass < 1e-30f) mass = 1e-30f;
+      p += hit_coeff_ * fmath::exp(-0.5f * u * u) / mass;
+    }
+    // p_short on [0, z*]
+    if (p_.z_short > 0.0f && z <= z_exp) {
+      const float x = p_.lambda_short * z_exp;
+      if (x >= 1e-6f) {
+        // 1 - e^{-x} without cancellation for small x
+        const float norm = x < 1e-3f ? x * (1.0f - 0.5f * x * (1.0f - x * (1.0f / 3.0f))) : 1.0f - fmath::exp(-x);
+        p += p_.z_short * p_.lambda_short * fmath::exp(-p_.lambda_short * z) / norm;
+      }
+    }
+    return p;
+  }
+
+  float log_density(float z, float z_exp) const {
+    const float p = density(z, z_exp);
+    return p > 1e-30f ? fmath::log(p) : kBeamLogDensityFloor;
+  }
+
+ private:
+  BeamModelParams p_{};
+  float inv_sigma_ = 1.0f;
+  float hit_coeff_ = 0.0f;
+  float rand_density_ = 0.0f;
+  float max_density_ = 0.0f;
+  bool ready_ = false;
+};
+
+// log p(z | x, m) of table 6.1: the sum over the prepared beams of the per-beam log density, with z* ray cast by
+// `caster` (GridRayCaster or DistanceTransformRayCaster, or anything with the same cast()) from the sensor pose
+// x (+) mount. Cost per particle: 2 sincos + K ray casts + K densities. Returns 0 for an empty scan and
+// K * kBeamLogDensityFloor when the model is not configured or the pose is not finite.
+template <class Caster>
+float beam_range_finder_model(const ScanBeams& z, const Pose2& x, const Pose2& mount, const Caster& caster,
+                              const BeamRangeFinderModel& model) {
+  const float floor_all = static_cast<float>(z.count) * kBeamLogDensityFloor;
+  if (!model.ready() || !x.is_finite() || !mount.is_finite()) return floor_all;
+  const SensorFrame f = sensor_frame(x, mount);
+  const float zm = model.params().range_max;
+  float sum = 0.0f;
+  for (std::int32_t k = 0; k < z.count; ++k) {
+    const float dx = f.c * z.ux[k] - f.s * z.uy[k];
+    const float dy = f.s * z.ux[k] + f.c * z.uy[k];
+    const float z_exp = caster.cast(f.x, f.y, dx, dy, zm);
+    sum += model.log_density(z.is_max[k] ? zm : z.range[k], z_exp);
+  }
+  return sum;
+}
+
+}  // namespace est
