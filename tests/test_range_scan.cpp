@@ -37,20 +37,22 @@ TEST_CASE("subsampling keeps every s-th beam from the first one", "[range_scan]"
   CHECK(g_scan.prepare(layout, ranges, 0) == est::ScanStatus::bad_layout);
 }
 
-TEST_CASE("NaN, infinite and negative readings are rejected and counted; max readings are flagged", "[range_scan]") {
+TEST_CASE("NaN, -inf and negative readings are rejected and counted; +inf and max readings are max readings",
+          "[range_scan]") {
   const float nan = __builtin_nanf(""), inf = __builtin_inff();
   const float ranges[8] = {1.0f, nan, inf, -inf, -0.5f, 0.05f, 30.0f, 45.0f};
   const est::ScanLayout layout{0.0f, 0.1f, 8, 0.1f, 30.0f};
   REQUIRE(g_scan.prepare(layout, ranges) == est::ScanStatus::ok);
   const est::ScanCounters& c = g_scan.counters();
-  CHECK(c.kept == 3);
-  CHECK(c.rejected_nonfinite == 3);
+  CHECK(c.kept == 4);
+  CHECK(c.rejected_nonfinite == 2);  // NaN and -inf
   CHECK(c.rejected_below_min == 2);  // -0.5 and 0.05 < range_min
-  CHECK(c.max_readings == 2);
+  CHECK(c.max_readings == 3);        // +inf (no return, REP 117), 30 and 45
   const est::ScanBeams b = g_scan.beams();
   CHECK(b.is_max[0] == 0);
   CHECK(b.is_max[1] == 1);
-  CHECK(b.range[2] == 30.0f);  // clamped
+  CHECK(b.range[1] == 30.0f);  // +inf clamped to range_max
+  CHECK(b.range[3] == 30.0f);  // 45 clamped
 }
 
 TEST_CASE("bad layouts and scans with nothing usable are refused, leaving an empty scan", "[range_scan]") {

@@ -7,7 +7,8 @@
 // Layout: beam k (0 <= k < count) has bearing angle_min + k * angle_increment in the sensor frame (x forward,
 // y left, counter-clockwise positive), so 360 x 1 deg, 180 x 1 deg, 181 x 1 deg, 683 x 0.36 deg ... all fit.
 // Readings: finite and >= range_min are used; >= range_max is a max-range reading (kept, flagged, clamped to
-// range_max); NaN and +-inf are rejected as nonfinite (+inf "no return" too: drivers disagree on it); below
+// range_max); +inf is "no return within range" (ROS REP 117) and so a max-range reading too, the same rule as
+// the HAL's classify_beam; NaN and -inf are rejected as nonfinite; below
 // range_min (including negative) rejected as below_min. Rejections are counted, never evaluated.
 #include <cstdint>
 
@@ -34,7 +35,7 @@ enum class ScanStatus : std::uint8_t {
 struct ScanCounters {
   std::int32_t kept = 0;               // beams the models evaluate (max-range readings included)
   std::int32_t max_readings = 0;       // of the kept, readings >= range_max
-  std::int32_t rejected_nonfinite = 0; // NaN or infinite
+  std::int32_t rejected_nonfinite = 0; // NaN or -inf
   std::int32_t rejected_below_min = 0; // < range_min, negative included
   std::int32_t skipped_stride = 0;     // not on the subsampling grid
 };
@@ -85,7 +86,8 @@ class PreparedScanBuffer {
         ++counters_.skipped_stride;
         continue;
       }
-      const float z = ranges[k];
+      float z = ranges[k];
+      if (z > 0.0f && !fmath::isfinite(z)) z = layout.range_max;  // +inf: no return (REP 117)
       if (!fmath::isfinite(z)) {
         ++counters_.rejected_nonfinite;
         continue;
