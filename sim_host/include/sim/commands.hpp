@@ -1,0 +1,12 @@
+#pragma once
+// The sim_host subcommands: each file under sim_host/src/ that implements one adds it to the CLI here.
+namespace CLI {
+class App;
+}
+
+namespace sim {
+
+// sample-motion: posterior samples of the motion models (sim_host/src/sample_motion_command.cpp).
+void add_sample_motion_command(CLI::App& app);
+
+}  // namespace sim

@@ -1,0 +1,21 @@
+// sim_host: the host simulator and tools, one subcommand each (sim_host --help lists them).
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <iostream>
+
+#include "sim/commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"sim_host: host simulator and tools for the estimator firmware"};
+  app.require_subcommand(1);
+  sim::add_sample_motion_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::cerr << "sim_host: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
