@@ -10,6 +10,12 @@ namespace {
 constexpr Section kSections[] = {
     {"rng", section_rng, 0x29befb971cbc5ca9ull},
     {"gaussian_propagation", section_gaussian_propagation, 0x6885d4b16f70beb5ull},
+    {"samplers", section_samplers, 0x4c90acd00e9ea70aull},
+    {"motion_b", section_motion_b, 0x52022a27d17655e3ull},
+    {"sensors", section_sensors, 0x10b2b53ad7117cf3ull},
+    {"motion_a", section_motion_a, 0x651a71140c8e686eull},
+    {"ekf", section_ekf, 0x9f2512c664b22560ull},
+    {"mcl", section_mcl, 0x6ee7a652bc97399aull},
 };
 
 }  // namespace

@@ -28,5 +28,11 @@ std::uint64_t combined(const Result* results, int count);
 // Sections, one file each.
 std::uint64_t section_rng();
 std::uint64_t section_gaussian_propagation();
+std::uint64_t section_samplers();
+std::uint64_t section_motion_b();
+std::uint64_t section_sensors();
+std::uint64_t section_motion_a();
+std::uint64_t section_ekf();
+std::uint64_t section_mcl();
 
 }  // namespace est::selftest

@@ -35,6 +35,12 @@ double variance_standard_error(double variance, double excess_kurtosis, std::siz
   return variance * std::sqrt(2.0 / (nn - 1.0) + excess_kurtosis / nn);
 }
 
+double excess_kurtosis_standard_error(double mu4, double mu6, double mu8, std::size_t n) {
+  // g = m4 / m2^2 with Var(m2) = mu4 - 1, Var(m4) = mu8 - mu4^2, Cov(m2, m4) = mu6 - mu4 (per draw, sigma = 1).
+  const double v = (mu8 - mu4 * mu4) + 4.0 * mu4 * mu4 * (mu4 - 1.0) - 4.0 * mu4 * (mu6 - mu4);
+  return std::sqrt(v / static_cast<double>(n));
+}
+
 double ks_statistic(std::vector<double> x, const std::function<double(double)>& cdf) {
   std::sort(x.begin(), x.end());
   const double n = static_cast<double>(x.size());

@@ -18,6 +18,9 @@ Moments moments(const std::vector<double>& x);
 // variance and excess kurtosis (for tolerances stated in sigmas).
 double mean_standard_error(double variance, std::size_t n);
 double variance_standard_error(double variance, double excess_kurtosis, std::size_t n);
+// Standard error of the sample excess kurtosis for n draws of a symmetric distribution with standardized moments
+// E[z^4], E[z^6], E[z^8] (delta method; sqrt(24 / n) for the normal: 3, 15, 105).
+double excess_kurtosis_standard_error(double mu4, double mu6, double mu8, std::size_t n);
 
 // D_n = sup |F_n(x) - F(x)|; sorts a copy.
 double ks_statistic(std::vector<double> x, const std::function<double(double)>& cdf);

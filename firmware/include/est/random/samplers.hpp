@@ -8,7 +8,8 @@
 
 namespace est {
 
-// N(0, sigma^2) by Box-Muller; one of the pair is used, so each call takes exactly two draws.
+// N(0, sigma^2) by Box-Muller; one of the pair is used, so each call takes exactly two draws. u1 >= 2^-24 bounds
+// the output to |x| <= 5.77 sigma: the normal tail cut off there has probability 8e-9.
 inline float sample_normal_box_muller(Rng& rng, float sigma) {
   const float u1 = rng.uniform_open_zero();
   const float u2 = rng.uniform();
@@ -32,14 +33,15 @@ inline float sample_triangular(Rng& rng, float sigma) {
 // The firmware's default normal sampler.
 inline float sample_normal(Rng& rng, float sigma) { return sample_normal_box_muller(rng, sigma); }
 
-// Density of N(0, sigma^2) at a (table 5.2, line 2).
+// Density of N(0, sigma^2) at a (table 5.2, line 2), sigma > 0; 0 beyond |a| ~ 14 sigma where it underflows
+// (for likelihood products use log_normal_density in est/math/normal.hpp).
 inline float prob_normal(float a, float sigma) {
   constexpr float kInvSqrt2Pi = 0.39894228040143267794f;
   const float z = a / sigma;
   return kInvSqrt2Pi / sigma * fmath::exp(-0.5f * z * z);
 }
 
-// Density of the zero-mean triangular distribution with standard deviation sigma at a (table 5.2, line 4).
+// Density of the zero-mean triangular distribution with standard deviation sigma > 0 at a (table 5.2, line 4).
 inline float prob_triangular(float a, float sigma) {
   constexpr float kSqrt6 = 2.44948974278317809820f;
   const float width = kSqrt6 * sigma;
@@ -56,6 +58,8 @@ struct RejectionSample {
 
 // Rejection sampling of a density f on [lo, hi] bounded by f_max, giving up after max_tries (the loop bound).
 // The acceptance rate is (integral of f) / (f_max (hi - lo)); pick max_tries for the failure odds you can accept.
+// f need not be normalized but must not exceed f_max on [lo, hi] (where it does, the samples are biased). Each try
+// takes two draws (x, then the height), so a give-up advances the generator by exactly 2 max_tries draws.
 template <typename Density>
 RejectionSample sample_rejection(Rng& rng, const Density& f, float lo, float hi, float f_max,
                                  std::uint32_t max_tries) {

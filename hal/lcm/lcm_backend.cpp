@@ -1,0 +1,89 @@
+// The LCM backend (hal/lcm/lcm_backend.hpp).
+#include "hal/lcm/lcm_backend.hpp"
+
+namespace hal::lcm {
+
+LcmInputs::LcmInputs(::lcm::LCM& lcm, InputConfig config, SensorPort& port, TeamPort* team)
+    : lcm_(lcm), config_(std::move(config)), port_(port), team_(team) {
+  const Channels& ch = config_.channels;
+  subscriptions_.push_back(lcm_.subscribe(ch.wheel_ticks, &LcmInputs::on_wheel_ticks, this));
+  subscriptions_.push_back(lcm_.subscribe(ch.steering, &LcmInputs::on_steering, this));
+  subscriptions_.push_back(lcm_.subscribe(ch.range_scan, &LcmInputs::on_range_scan, this));
+  if (team_ != nullptr) subscriptions_.push_back(lcm_.subscribe(ch.team, &LcmInputs::on_team, this));
+}
+
+LcmInputs::~LcmInputs() {
+  for (::lcm::Subscription* s : subscriptions_)
+    if (s != nullptr) lcm_.unsubscribe(s);
+}
+
+bool LcmInputs::note(LcmReject r) {
+  if (r == LcmReject::none) {
+    ++accepted_;
+    return true;
+  }
+  rejects_.add(r);
+  return false;
+}
+
+void LcmInputs::on_wheel_ticks(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {
+  est_lcm::encoder_ticks_t m{};
+  WheelTicks s;
+  LcmReject r = decode_guarded(rbuf->data, rbuf->data_size, m, static_cast<std::int64_t>(kMaxWheels));
+  if (r == LcmReject::none) r = to_hal(m, config_.wheel_counter_bits, s);
+  if (note(r)) port_.on_wheel_ticks(s);
+}
+
+void LcmInputs::on_steering(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {
+  est_lcm::steering_t m{};
+  if (note(decode_guarded(rbuf->data, rbuf->data_size, m, 0))) port_.on_steering(to_hal(m));
+}
+
+void LcmInputs::on_range_scan(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {
+  est_lcm::range_scan_t m{};
+  RangeScanView view;
+  LcmReject r = decode_guarded(rbuf->data, rbuf->data_size, m, static_cast<std::int64_t>(config_.max_ranges));
+  if (r == LcmReject::none) r = to_hal(m, view);
+  if (note(r)) port_.on_range_scan(view);
+}
+
+void LcmInputs::on_team(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {
+  est_lcm::team_message_t m{};
+  Fault content = Fault::none;
+  LcmReject r = decode_guarded(rbuf->data, rbuf->data_size, m, static_cast<std::int64_t>(kMaxTeamMeasurements));
+  if (r == LcmReject::none) r = to_hal(m, team_message_, content);
+  if (content != Fault::none) team_faults_.add(content);
+  if (note(r) && team_ != nullptr) team_->on_team_message(team_message_);
+}
+
+template <typename Message>
+void LcmOutputs::send(const std::string& channel, const Message& m) {
+  if (lcm_.publish(channel, &m) != 0) ++failures_;
+}
+
+void LcmOutputs::publish(const Estimate& estimate) { send(channels_.pose, to_lcm(estimate)); }
+
+void LcmOutputs::publish_status(const est_lcm::status_t& status) { send(channels_.status, status); }
+
+void LcmOutputs::publish_particles(TimeNs stamp_ns, const float* x, const float* y, const float* theta,
+                                   const float* weight, std::size_t n, std::size_t decimation) {
+  if (decimation == 0) decimation = 1;
+  est_lcm::particle_cloud_t m{};
+  m.stamp_ns = stamp_ns;
+  m.num_total = static_cast<std::int32_t>(n);
+  m.decimation = static_cast<std::int32_t>(decimation);
+  for (std::size_t i = 0; i < n; i += decimation) {
+    m.x_m.push_back(x[i]);
+    m.y_m.push_back(y[i]);
+    m.theta_rad.push_back(theta[i]);
+    m.weight.push_back(weight[i]);
+  }
+  m.num_particles = static_cast<std::int32_t>(m.x_m.size());
+  send(channels_.particles, m);
+}
+
+void LcmOutputs::publish_ground_truth(const est_lcm::ground_truth_t& truth) { send(channels_.ground_truth, truth); }
+
+void LcmOutputs::publish_team(const TeamMessage& message) { send(channels_.team, to_lcm(message)); }
+
+}  // namespace hal::lcm

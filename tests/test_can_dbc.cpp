@@ -1,0 +1,172 @@
+// hal/can/estimator.dbc against the codec's tables, field by field, both ways: a change to either side alone fails.
+// Then frames the codec encodes are decoded with the DBC alone (as cantools would) and must give the same values.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "dbc_parser.hpp"
+#include "hal/can/estimator_dbc.hpp"
+#include "hal/can/messages.hpp"
+
+using namespace hal::can;
+using est::test::Dbc;
+using est::test::DbcMessage;
+using est::test::DbcSignal;
+
+namespace {
+
+std::string dbc_path() {
+  const std::string here = __FILE__;
+  return here.substr(0, here.find_last_of('/')) + "/../hal/can/estimator.dbc";
+}
+
+const std::string& dbc_text() {
+  static const std::string text = est::test::read_text_file(dbc_path());
+  return text;
+}
+
+// Every difference between the DBC and the codec's tables, as readable lines.
+std::vector<std::string> mismatches(const Dbc& dbc) {
+  std::vector<std::string> out;
+  auto differ = [&](const std::string& where, const std::string& what) { out.push_back(where + ": " + what); };
+  for (const std::string& e : dbc.errors) differ("DBC", "unparsed line '" + e + "'");
+  if (dbc.messages.size() != std::size(dbc::kMessages))
+    differ("DBC", "has " + std::to_string(dbc.messages.size()) + " messages, codec " +
+                      std::to_string(std::size(dbc::kMessages)));
+  for (const MessageSpec& spec : dbc::kMessages) {
+    const DbcMessage* m = dbc.message(spec.id);
+    const std::string where = spec.name;
+    if (m == nullptr) {
+      differ(where, "id " + std::to_string(spec.id) + " missing from the DBC");
+      continue;
+    }
+    if (m->name != spec.name) differ(where, "DBC name " + m->name);
+    if (m->dlc != spec.dlc) differ(where, "DBC length " + std::to_string(m->dlc));
+    if (m->sender != spec.sender) differ(where, "DBC sender " + m->sender);
+    if (m->signals.size() != spec.signal_count)
+      differ(where, "DBC has " + std::to_string(m->signals.size()) + " signals");
+    for (std::size_t i = 0; i < spec.signal_count; ++i) {
+      const SignalSpec& s = spec.signals[i];
+      const std::string sw = where + "." + s.name;
+      const DbcSignal* d = m->signal(s.name);
+      if (d == nullptr) {
+        differ(sw, "missing from the DBC");
+        continue;
+      }
+      if (d->start_bit != s.start_bit) differ(sw, "start bit " + std::to_string(d->start_bit));
+      if (d->length != s.length) differ(sw, "length " + std::to_string(d->length));
+      if (d->little_endian != (s.order == ByteOrder::little_endian)) differ(sw, "byte order");
+      if (d->is_signed != s.is_signed) differ(sw, "signedness");
+      // The board computes in float: the DBC's decimal, rounded to float, must be the table's constant exactly.
+      if (static_cast<float>(d->factor) != s.factor) differ(sw, "factor " + std::to_string(d->factor));
+      if (static_cast<float>(d->offset) != s.offset) differ(sw, "offset " + std::to_string(d->offset));
+      if (static_cast<float>(d->minimum) != s.minimum) differ(sw, "minimum " + std::to_string(d->minimum));
+      if (static_cast<float>(d->maximum) != s.maximum) differ(sw, "maximum " + std::to_string(d->maximum));
+      if (d->unit != s.unit) differ(sw, "unit '" + d->unit + "'");
+    }
+  }
+  return out;
+}
+
+std::string replace_once(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  return text.replace(at, from.size(), to);
+}
+
+}  // namespace
+
+TEST_CASE("the DBC file parses and every message and signal matches the codec's tables", "[can][dbc]") {
+  REQUIRE(!dbc_text().empty());
+  const Dbc dbc = est::test::parse_dbc(dbc_text());
+  REQUIRE(dbc.messages.size() == 9);
+  const std::vector<std::string> diff = mismatches(dbc);
+  for (const std::string& d : diff) UNSCOPED_INFO(d);
+  CHECK(diff.empty());
+}
+
+TEST_CASE("signals stay inside their frame and never overlap", "[can][dbc]") {
+  const Dbc dbc = est::test::parse_dbc(dbc_text());
+  for (const DbcMessage& m : dbc.messages) {
+    std::set<unsigned> used;
+    for (const DbcSignal& s : m.signals) {
+      for (unsigned bit : est::test::dbc_signal_bits(s)) {
+        INFO(m.name << "." << s.name << " bit " << bit);
+        CHECK(bit < 8 * m.dlc);
+        CHECK(used.insert(bit).second);
+      }
+    }
+  }
+}
+
+TEST_CASE("a change on one side only is caught: id, length, start bit, byte order, sign, factor, unit",
+          "[can][dbc]") {
+  const std::string& t = dbc_text();
+  const std::vector<std::pair<std::string, std::string>> edits = {
+      {"BO_ 256 WHEEL_TICKS: 8", "BO_ 260 WHEEL_TICKS: 8"},
+      {"BO_ 257 STEERING: 8", "BO_ 257 STEERING: 7"},
+      {"SG_ Seq : 4|12@1+", "SG_ Seq : 4|11@1+"},
+      {"SG_ RangeMax : 48|16@1+", "SG_ RangeMax : 47|16@1+"},
+      {"SG_ SteeringAngle : 7|16@0-", "SG_ SteeringAngle : 7|16@1-"},
+      {"SG_ X : 0|22@1-", "SG_ X : 0|22@1+"},
+      {"SG_ SigmaTheta : 32|16@1+ (0.0001,0)", "SG_ SigmaTheta : 32|16@1+ (0.001,0)"},
+      {"SG_ AngleIncrement : 32|32@1- (1e-09,0)", "SG_ AngleIncrement : 32|32@1- (1e-09,0.1)"},
+      {"[0|65.535] \"m\" Vector__XXX", "[0|65.535] \"mm\" Vector__XXX"},
+      {"SG_ CorrXY : 0|16@1- (0.0001,0) [-1|1]", "SG_ CorrXY : 0|16@1- (0.0001,0) [-1|2]"},
+      {" SG_ Counter : 48|4@1+ (1,0) [0|15] \"\" Vector__XXX\n\n", "\n"},  // a signal removed
+  };
+  for (const auto& [from, to] : edits) {
+    INFO("edit: " << from << " -> " << to);
+    CHECK(!mismatches(est::test::parse_dbc(replace_once(t, from, to))).empty());
+  }
+}
+
+TEST_CASE("frames from the codec decode with the DBC alone to the values encoded", "[can][dbc]") {
+  const Dbc dbc = est::test::parse_dbc(dbc_text());
+  auto value = [&](const CanFrame& f, const char* signal) {
+    const DbcMessage* m = dbc.message(f.id);
+    REQUIRE(m != nullptr);
+    REQUIRE(f.dlc == m->dlc);
+    const DbcSignal* s = m->signal(signal);
+    REQUIRE(s != nullptr);
+    return est::test::dbc_decode(*s, f.data);
+  };
+  CanFrame f;
+  REQUIRE(encode(WheelTicksMsg{65535, 7, 9}, f) == CodecStatus::ok);
+  CHECK(value(f, "TicksLeft") == 65535);
+  CHECK(value(f, "TicksRight") == 7);
+  CHECK(value(f, "Counter") == 9);
+  REQUIRE(encode(SteeringMsg{-0.5432f, 2}, f) == CodecStatus::ok);
+  CHECK(value(f, "SteeringAngle") == Approx(-0.5432).margin(1e-7));
+  CHECK(value(f, "Counter") == 2);
+  REQUIRE(encode(ScanHeaderMsg{9, 1081, 0x1234, 0.025f, 30.0f}, f) == CodecStatus::ok);
+  CHECK(value(f, "ScanId") == 9);
+  CHECK(value(f, "RangeCount") == 1081);
+  CHECK(value(f, "ScanCrc") == 0x1234);
+  CHECK(value(f, "ScanTime") == Approx(0.025).margin(1e-9));
+  CHECK(value(f, "RangeMax") == Approx(30.0).margin(1e-9));
+  REQUIRE(encode(ScanInfoMsg{9, 0.06f, -2.35619f, 0.00436332f}, f) == CodecStatus::ok);
+  CHECK(value(f, "RangeMin") == Approx(0.06).margin(1e-9));
+  CHECK(value(f, "AngleMin") == Approx(-2.3562).margin(1e-9));
+  CHECK(value(f, "AngleIncrement") == Approx(0.00436332).margin(1e-9));
+  REQUIRE(encode(ScanDataMsg{9, 360, {1234, 0, 65535}}, f) == CodecStatus::ok);
+  CHECK(value(f, "Seq") == 360);
+  CHECK(value(f, "Range0") == Approx(1.234).margin(1e-9));
+  CHECK(value(f, "Range2") == Approx(65.535).margin(1e-9));
+  REQUIRE(encode(PoseEstimateMsg{-1234.567f, 2000.001f, -3.14159f, 11}, f) == CodecStatus::ok);
+  CHECK(value(f, "X") == Approx(-1234.567).margin(1e-9));
+  CHECK(value(f, "Y") == Approx(2000.001).margin(1e-9));
+  CHECK(value(f, "Theta") == Approx(-3.1416).margin(1e-9));
+  CHECK(value(f, "Counter") == 11);
+  REQUIRE(encode(PoseSigmaMsg{0.05f, 1.5f, 0.02f, 11}, f) == CodecStatus::ok);
+  CHECK(value(f, "SigmaY") == Approx(1.5).margin(1e-9));
+  CHECK(value(f, "SigmaTheta") == Approx(0.02).margin(1e-9));
+  REQUIRE(encode(PoseCorrelationMsg{-0.25f, 0.0f, 0.9999f, 11}, f) == CodecStatus::ok);
+  CHECK(value(f, "CorrXY") == Approx(-0.25).margin(1e-9));
+  CHECK(value(f, "CorrYTheta") == Approx(0.9999).margin(1e-9));
+  REQUIRE(encode(EstimatorStatusMsg{0x80010003u, 42, 11}, f) == CodecStatus::ok);
+  CHECK(value(f, "StatusWord") == 0x80010003u);
+  CHECK(value(f, "RejectedInputs") == 42);
+}

@@ -1,0 +1,291 @@
+// LCM backend over memq:// (in process): every input kind reaches the SensorPort on configurable channels, every
+// output can be read back, and malformed, mis-shaped or bad-valued messages are rejected with their reason counted.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "hal/lcm/lcm_backend.hpp"
+#include "hal/status_word.hpp"
+#include "hal/validated_inputs.hpp"
+
+using hal::lcm::LcmReject;
+
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+struct Recorder final : hal::SensorPort, hal::TeamPort {
+  std::vector<hal::WheelTicks> wheels;
+  std::vector<hal::SteeringSample> steering;
+  std::vector<std::vector<float>> scans;
+  std::vector<hal::ScanGeometry> geometry;
+  std::vector<hal::TeamMessage> team;
+  void on_wheel_ticks(const hal::WheelTicks& s) override { wheels.push_back(s); }
+  void on_steering(const hal::SteeringSample& s) override { steering.push_back(s); }
+  void on_range_scan(const hal::RangeScanView& s) override {
+    scans.emplace_back(s.ranges, s.ranges + s.count);
+    geometry.push_back(s.geometry);
+  }
+  void on_team_message(const hal::TeamMessage& m) override { team.push_back(m); }
+};
+
+void pump(lcm::LCM& lcm) {
+  while (lcm.handleTimeout(0) > 0) {
+  }
+}
+
+hal::lcm::InputConfig custom_channels() {
+  hal::lcm::InputConfig c;
+  c.channels.wheel_ticks = "ROBOT7/ODOM_TICKS";
+  c.channels.steering = "ROBOT7/STEER";
+  c.channels.range_scan = "ROBOT7/LIDAR";
+  c.channels.team = "TEAM";
+  c.wheel_counter_bits = 16;
+  c.max_ranges = 1081;
+  return c;
+}
+
+template <typename M>
+std::vector<std::uint8_t> bytes_of(const M& m) {
+  std::vector<std::uint8_t> b(static_cast<std::size_t>(m.getEncodedSize()));
+  REQUIRE(m.encode(b.data(), 0, static_cast<int>(b.size())) == static_cast<int>(b.size()));
+  return b;
+}
+
+est_lcm::range_scan_t small_scan() {
+  est_lcm::range_scan_t s;
+  s.stamp_ns = 1000;
+  s.angle_min_rad = -1.0f;
+  s.angle_increment_rad = 0.5f;
+  s.range_min_m = 0.1f;
+  s.range_max_m = 20.0f;
+  s.scan_time_s = 0.1f;
+  s.ranges_m = {1.0f, std::numeric_limits<float>::infinity(), kNaN, 3.5f, 19.0f};
+  s.num_ranges = 5;
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("sensor inputs on configured channels reach the SensorPort as HAL samples", "[lcm]") {
+  lcm::LCM lcm("memq://");
+  REQUIRE(lcm.good());
+  Recorder port;
+  hal::lcm::LcmInputs in(lcm, custom_channels(), port, &port);
+
+  hal::WheelTicks w;
+  w.stamp_ns = 500;
+  w.wheel_count = 2;
+  w.count[0] = 65535;
+  w.count[1] = 7;
+  const est_lcm::encoder_ticks_t ticks = hal::lcm::to_lcm(w, 16);
+  lcm.publish("ROBOT7/ODOM_TICKS", &ticks);
+  const est_lcm::steering_t steer = hal::lcm::to_lcm(hal::SteeringSample{600, -0.3f});
+  lcm.publish("ROBOT7/STEER", &steer);
+  const est_lcm::range_scan_t scan = small_scan();
+  lcm.publish("ROBOT7/LIDAR", &scan);
+  hal::TeamMessage t;
+  t.stamp_ns = 700;
+  t.robot_id = 3;
+  t.v_mps = 0.5f;
+  t.omega_rps = -0.1f;
+  t.dt_s = 0.1f;
+  t.count = 2;
+  t.measurements[0] = {hal::TeamTarget::landmark, 4.0f, 0.5f, 12};
+  t.measurements[1] = {hal::TeamTarget::robot, 2.5f, -1.0f, 1};
+  const est_lcm::team_message_t team = hal::lcm::to_lcm(t);
+  lcm.publish("TEAM", &team);
+  lcm.publish("EST_STEERING", &steer);  // the default name is not subscribed any more
+  pump(lcm);
+
+  REQUIRE(port.wheels.size() == 1);
+  CHECK(port.wheels[0].stamp_ns == 500);
+  CHECK(port.wheels[0].count[0] == 65535);
+  CHECK(port.wheels[0].count[1] == 7);
+  REQUIRE(port.steering.size() == 1);
+  CHECK(port.steering[0].angle_rad == -0.3f);
+  REQUIRE(port.scans.size() == 1);
+  CHECK(port.scans[0].size() == 5);
+  CHECK(std::isinf(port.scans[0][1]));
+  CHECK(std::isnan(port.scans[0][2]));
+  CHECK(port.geometry[0].range_max_m == 20.0f);
+  REQUIRE(port.team.size() == 1);
+  CHECK(port.team[0].count == 2);
+  CHECK(port.team[0].measurements[1].type == hal::TeamTarget::robot);
+  CHECK(port.team[0].measurements[0].target_id == 12);
+  CHECK(in.accepted() == 4);
+  CHECK(in.rejects().total() == 0);
+}
+
+TEST_CASE("estimates, status, particles and ground truth are published and read back", "[lcm]") {
+  lcm::LCM lcm("memq://");
+  hal::lcm::Channels ch;
+  ch.pose = "OUT/POSE";
+  hal::lcm::LcmOutputs out(lcm, ch);
+
+  std::vector<est_lcm::pose_estimate_t> poses;
+  std::vector<est_lcm::particle_cloud_t> clouds;
+  std::vector<est_lcm::status_t> statuses;
+  std::vector<est_lcm::ground_truth_t> truths;
+  struct Handler {
+    std::vector<est_lcm::pose_estimate_t>* poses;
+    std::vector<est_lcm::particle_cloud_t>* clouds;
+    std::vector<est_lcm::status_t>* statuses;
+    std::vector<est_lcm::ground_truth_t>* truths;
+    void pose(const lcm::ReceiveBuffer*, const std::string&, const est_lcm::pose_estimate_t* m) { poses->push_back(*m); }
+    void cloud(const lcm::ReceiveBuffer*, const std::string&, const est_lcm::particle_cloud_t* m) { clouds->push_back(*m); }
+    void status(const lcm::ReceiveBuffer*, const std::string&, const est_lcm::status_t* m) { statuses->push_back(*m); }
+    void truth(const lcm::ReceiveBuffer*, const std::string&, const est_lcm::ground_truth_t* m) { truths->push_back(*m); }
+  } h{&poses, &clouds, &statuses, &truths};
+  lcm.subscribe("OUT/POSE", &Handler::pose, &h);
+  lcm.subscribe("EST_PARTICLES", &Handler::cloud, &h);
+  lcm.subscribe("EST_STATUS", &Handler::status, &h);
+  lcm.subscribe("EST_GROUND_TRUTH", &Handler::truth, &h);
+
+  hal::Estimate e;
+  e.stamp_ns = 123456789;
+  e.pose = {1.0f, 2.0f, -0.5f};
+  e.covariance << 0.1f, 0.01f, 0.0f, 0.01f, 0.2f, 0.0f, 0.0f, 0.0f, 0.05f;
+  e.status = hal::status::kCanLinkDown | hal::status::kFilterDegenerate;
+  e.rejected_inputs = 9;
+  out.publish(e);
+  const float x[10] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
+  const float w[10] = {0.1f, 0.1f, 0.1f, 0.1f, 0.1f, 0.1f, 0.1f, 0.1f, 0.1f, 0.1f};
+  out.publish_particles(5, x, x, x, w, 10, 3);
+  est_lcm::status_t st{};
+  st.num_input_faults = static_cast<std::int16_t>(hal::kFaultCount);
+  st.input_faults.assign(hal::kFaultCount, 0);
+  st.input_faults[static_cast<std::size_t>(hal::Fault::stale)] = 4;
+  st.status_word = static_cast<std::int32_t>(e.status);
+  out.publish_status(st);
+  est_lcm::ground_truth_t gt{};
+  gt.x_m = 1.25f;
+  out.publish_ground_truth(gt);
+  pump(lcm);
+
+  REQUIRE(poses.size() == 1);
+  const hal::Estimate back = hal::lcm::to_hal(poses[0]);
+  CHECK(back.stamp_ns == e.stamp_ns);
+  CHECK(back.pose.theta == -0.5f);
+  CHECK(back.covariance == e.covariance);
+  CHECK(poses[0].covariance[1] == 0.01f);  // row-major
+  CHECK(back.status == e.status);
+  CHECK(back.rejected_inputs == 9);
+  REQUIRE(clouds.size() == 1);
+  CHECK(clouds[0].num_particles == 4);  // particles 0, 3, 6, 9
+  CHECK(clouds[0].x_m[3] == 9.0f);
+  CHECK(clouds[0].num_total == 10);
+  REQUIRE(statuses.size() == 1);
+  CHECK(statuses[0].input_faults[static_cast<std::size_t>(hal::Fault::stale)] == 4);
+  REQUIRE(truths.size() == 1);
+  CHECK(truths[0].x_m == 1.25f);
+  CHECK(out.publish_failures() == 0);
+}
+
+TEST_CASE("garbage, truncated and wrong-type payloads are malformed; bad counts and shapes are rejected",
+          "[lcm]") {
+  lcm::LCM lcm("memq://");
+  Recorder port;
+  hal::lcm::LcmInputs in(lcm, custom_channels(), port, &port);
+
+  const std::uint8_t garbage[5] = {1, 2, 3, 4, 5};
+  lcm.publish("ROBOT7/STEER", garbage, sizeof garbage);
+  std::vector<std::uint8_t> scan = bytes_of(small_scan());
+  lcm.publish("ROBOT7/LIDAR", scan.data(), static_cast<unsigned>(scan.size() - 3));  // truncated
+  const est_lcm::steering_t steer{};
+  lcm.publish("ROBOT7/LIDAR", &steer);  // another type: fingerprint mismatch
+  CHECK(in.rejects()[LcmReject::malformed] == 0);
+  pump(lcm);
+  CHECK(in.rejects()[LcmReject::malformed] == 3);
+
+  // The leading count: negative, and larger than the receiver holds (checked before anything is allocated).
+  for (std::int32_t n : {-1, 2000, 0x7fffffff}) {
+    std::vector<std::uint8_t> b = scan;
+    for (int i = 0; i < 4; ++i) b[8 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(static_cast<std::uint32_t>(n) >> (24 - 8 * i));
+    lcm.publish("ROBOT7/LIDAR", b.data(), static_cast<unsigned>(b.size()));
+  }
+  hal::WheelTicks five;
+  five.wheel_count = 4;
+  est_lcm::encoder_ticks_t ticks = hal::lcm::to_lcm(five, 16);
+  ticks.num_wheels = 5;
+  ticks.count.push_back(0);
+  lcm.publish("ROBOT7/ODOM_TICKS", &ticks);
+  pump(lcm);
+  CHECK(in.rejects()[LcmReject::bad_count] == 4);
+
+  ticks = hal::lcm::to_lcm(five, 32);  // a 32-bit counter where 16 bits are configured
+  lcm.publish("ROBOT7/ODOM_TICKS", &ticks);
+  hal::TeamMessage t;
+  t.count = 1;
+  t.measurements[0] = {hal::TeamTarget::landmark, 1.0f, 0.0f, 1};
+  est_lcm::team_message_t team = hal::lcm::to_lcm(t);
+  team.measurements[0].type = 7;
+  lcm.publish("TEAM", &team);
+  team.measurements[0].type = est_lcm::team_measurement_t::LANDMARK;
+  team.measurements[0].range_m = kNaN;
+  lcm.publish("TEAM", &team);
+  team.measurements[0].range_m = -1.0f;
+  lcm.publish("TEAM", &team);
+  pump(lcm);
+  CHECK(in.rejects()[LcmReject::bad_shape] == 2);
+  CHECK(in.rejects()[LcmReject::bad_value] == 2);
+  CHECK(in.team_faults()[hal::Fault::not_finite] == 1);
+  CHECK(in.team_faults()[hal::Fault::out_of_range] == 1);
+  CHECK(port.wheels.empty());
+  CHECK(port.steering.empty());
+  CHECK(port.scans.empty());
+  CHECK(port.team.empty());
+}
+
+TEST_CASE("a negative count after the first array of status_t is malformed, not a crash", "[lcm]") {
+  est_lcm::status_t st{};
+  st.num_input_faults = 1;
+  st.input_faults = {3};
+  st.num_can_frame_rejects = 0;
+  st.num_can_scan_rejects = 0;
+  std::vector<std::uint8_t> b = bytes_of(st);
+  // num_can_frame_rejects sits after hash(8) + count(2) + stamp(8) + word(4) + steps(8) + overruns(8) + 1 x 8.
+  const std::size_t at = 8 + 2 + 8 + 4 + 8 + 8 + 8;
+  b[at] = 0xFF;
+  b[at + 1] = 0xFF;
+  est_lcm::status_t out;
+  CHECK(hal::lcm::decode_guarded(b.data(), b.size(), out, 64) == LcmReject::malformed);
+  std::vector<std::uint8_t> good = bytes_of(st);
+  CHECK(hal::lcm::decode_guarded(good.data(), good.size(), out, 64) == LcmReject::none);
+  CHECK(out.input_faults[0] == 3);
+}
+
+TEST_CASE("through the HAL gate: NaN steering, a NaN scan geometry and time going backwards are counted",
+          "[lcm]") {
+  struct Clock final : hal::Clock {
+    hal::TimeNs now_ns() override { return 1000; }
+  } clock;
+  struct Sink final : hal::ValidatedSensorPort {
+    int n = 0;
+    void on_wheel_motion(const hal::WheelTickDelta&) override { ++n; }
+    void on_steering(const hal::SteeringSample&) override { ++n; }
+    void on_range_scan(const hal::RangeScanView&) override { ++n; }
+  } sink;
+  hal::InputLimits limits;
+  limits.scan.min_valid_beams = 1;
+  hal::ValidatedInputs gate(limits, clock, sink);
+  lcm::LCM lcm("memq://");
+  hal::lcm::LcmInputs in(lcm, custom_channels(), gate);
+
+  est_lcm::steering_t s = hal::lcm::to_lcm(hal::SteeringSample{1000, kNaN});
+  lcm.publish("ROBOT7/STEER", &s);
+  s.angle_rad = 0.1f;
+  lcm.publish("ROBOT7/STEER", &s);
+  s.stamp_ns = 999;
+  lcm.publish("ROBOT7/STEER", &s);
+  est_lcm::range_scan_t scan = small_scan();
+  scan.angle_increment_rad = kNaN;
+  lcm.publish("ROBOT7/LIDAR", &scan);
+  pump(lcm);
+  CHECK(in.rejects().total() == 0);  // well-formed LCM: the HAL judges the values
+  CHECK(gate.faults()[hal::Fault::not_finite] == 2);
+  CHECK(gate.faults()[hal::Fault::time_backwards] == 1);
+  CHECK(sink.n == 1);
+}
