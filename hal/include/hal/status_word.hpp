@@ -2,17 +2,20 @@
 // The status word published with every estimate. Bits 0-15 belong to the filter loop, bits 16-31 to the transports.
 #include <cstdint>
 
+#include "est/loop/status.hpp"
+
 namespace hal::status {
 
-// Filter loop.
-inline constexpr std::uint32_t kEncoderTimeout = 1u << 0;
-inline constexpr std::uint32_t kSteeringTimeout = 1u << 1;
-inline constexpr std::uint32_t kScanTimeout = 1u << 2;
-inline constexpr std::uint32_t kInputRejected = 1u << 3;     // at least one input rejected since the last estimate
-inline constexpr std::uint32_t kFilterDegenerate = 1u << 4;  // e.g. particle weights collapsed, covariance not SPD
-inline constexpr std::uint32_t kDeadlineOverrun = 1u << 5;
-inline constexpr std::uint32_t kNotInitialized = 1u << 6;
-inline constexpr std::uint32_t kInputsOutOfOrder = 1u << 7;  // a measurement older than the reorder window
+// Filter loop: one definition, the firmware's (est/loop/status.hpp); these are the same constants under hal's name.
+inline constexpr std::uint32_t kEncoderTimeout = est::loop::status::kEncoderTimeout;
+inline constexpr std::uint32_t kSteeringTimeout = est::loop::status::kSteeringTimeout;
+inline constexpr std::uint32_t kScanTimeout = est::loop::status::kScanTimeout;
+inline constexpr std::uint32_t kInputRejected = est::loop::status::kInputRejected;  // by the loop or the HAL
+inline constexpr std::uint32_t kFilterDegenerate = est::loop::status::kFilterDegenerate;
+inline constexpr std::uint32_t kDeadlineOverrun = est::loop::status::kDeadlineOverrun;
+inline constexpr std::uint32_t kNotInitialized = est::loop::status::kNotInitialized;
+inline constexpr std::uint32_t kInputTooOld = est::loop::status::kInputTooOld;
+inline constexpr std::uint32_t kQueueFull = est::loop::status::kQueueFull;
 
 // Transports.
 inline constexpr std::uint32_t kCanLinkDown = 1u << 16;       // interface missing or down; reconnecting
@@ -24,7 +27,10 @@ inline constexpr std::uint32_t kCanTxFailed = 1u << 21;       // a frame could n
 inline constexpr std::uint32_t kCanProtocolError = 1u << 22;  // protocol violation, lost arbitration storm, no ack
 inline constexpr std::uint32_t kLcmDecodeError = 1u << 24;    // an LCM message did not decode or had a bad shape
 
-inline constexpr std::uint32_t kLoopMask = 0x0000ffffu;
+inline constexpr std::uint32_t kLoopMask = est::loop::status::kMask;
 inline constexpr std::uint32_t kTransportMask = 0xffff0000u;
+
+static_assert((kLoopMask & kTransportMask) == 0u && (kLoopMask | kTransportMask) == 0xffffffffu,
+              "the loop and the transports share the status word without overlap");
 
 }  // namespace hal::status

@@ -1,9 +1,16 @@
-#include "maps/office_map.hpp"
+#include "hal/maps/office_map.hpp"
 
 #include <cmath>
 #include <stdexcept>
 
-namespace est::sim {
+namespace hal::maps {
+
+using est::OccupancyGridBuffer;
+using est::MapStatus;
+using est::kUnknownCell;
+using est::kOccupiedCell;
+using est::kFreeCell;
+
 namespace {
 
 std::int32_t cells(float metres) { return static_cast<std::int32_t>(std::lround(metres / kOfficeResolution)); }
@@ -61,4 +68,4 @@ void make_office_map(OccupancyGridBuffer& g) {
   block(g, 16.0f, 13.0f, 19.0f, 14.5f, kUnknownCell);
 }
 
-}  // namespace est::sim
+}  // namespace hal::maps

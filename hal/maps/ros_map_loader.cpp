@@ -1,4 +1,4 @@
-#include "maps/ros_map_loader.hpp"
+#include "hal/maps/ros_map_loader.hpp"
 
 #include <cctype>
 #include <cmath>
@@ -7,7 +7,14 @@
 #include <sstream>
 #include <sys/stat.h>
 
-namespace est::sim {
+namespace hal::maps {
+
+using est::OccupancyGridBuffer;
+using est::MapStatus;
+using est::kUnknownCell;
+using est::kOccupiedCell;
+using est::kFreeCell;
+
 namespace {
 
 [[noreturn]] void fail(const std::string& name, const std::string& why) { throw MapLoadError(name + ": " + why); }
@@ -261,4 +268,4 @@ std::string shared_datasets_dir() {
   return {};
 }
 
-}  // namespace est::sim
+}  // namespace hal::maps

@@ -1,0 +1,120 @@
+// estimator_node's pipeline (hal/tools/pipeline.hpp).
+#include "pipeline.hpp"
+
+#include <stdexcept>
+
+#include "est/filter/free_space_sampler.hpp"
+#include "est/loop/mcl_estimator.hpp"
+#include "est/map/distance_transform.hpp"
+#include "est/map/occupancy_grid.hpp"
+#include "est/sensor/likelihood_field_range_finder_model.hpp"
+#include "hal/maps/office_map.hpp"
+#include "hal/maps/ros_map_loader.hpp"
+
+namespace hal::node {
+
+namespace {
+
+// The map and what the models precompute from it; owned here, read by the estimator for its whole life.
+struct MapModels {
+  est::OccupancyGridStorage<kMapMaxSide, kMapMaxSide> grid;
+  est::DistanceTransformStorage<kMapMaxSide, kMapMaxSide> edt;
+  est::LikelihoodField field;
+  est::FreeSpaceSampler free_space;
+  std::string description;
+
+  void build(const NodeConfig& c) {
+    if (c.map == "office") {
+      maps::make_office_map(grid);
+      description = "office (built-in, 20 m x 15 m at 0.05 m)";
+    } else {
+      const maps::RosMapInfo info = maps::load_ros_map(c.map, grid);
+      description = c.map + " (" + std::to_string(grid.width()) + " x " + std::to_string(grid.height()) + " at " +
+                    std::to_string(info.resolution) + " m)";
+    }
+    if (edt.build(grid.grid()) != est::MapStatus::ok) throw std::runtime_error("map: distance transform failed");
+    if (field.configure(c.field, grid.grid(), edt.view()) != est::SensorModelStatus::ok)
+      throw std::runtime_error("likelihood field: bad parameters (z_hit + z_max + z_rand must be 1, sigma_hit > 0)");
+    free_space = est::FreeSpaceSampler(grid.grid(), edt.view(), c.clearance_m);
+    if (!free_space.valid()) throw std::runtime_error("map: no usable free space");
+  }
+};
+
+template <typename Model>
+typename Model::Params motion_params(const NodeConfig& c);
+template <>
+est::DiffDriveMotionModel::Params motion_params<est::DiffDriveMotionModel>(const NodeConfig& c) {
+  return c.diff_drive;
+}
+template <>
+est::BicycleMotionModel::Params motion_params<est::BicycleMotionModel>(const NodeConfig& c) {
+  return c.bicycle;
+}
+
+template <typename Model>
+void set_odometry(const NodeConfig&, typename est::loop::OdometryControl<Model>::Config&) {}
+template <>
+void set_odometry<est::BicycleMotionModel>(const NodeConfig& c,
+                                           est::loop::OdometryControl<est::BicycleMotionModel>::Config& o) {
+  o.metres_per_tick = c.metres_per_tick;
+}
+
+template <typename Model>
+class ModelPipeline final : public Pipeline {
+ public:
+  using Estimator = est::loop::MclEstimator<Model, kMaxParticles, kMaxBeams>;
+  using Port = LoopPort<Estimator, kQueueCapacity, kMaxBeams, kScanSlots>;
+
+  ModelPipeline(const NodeConfig& c, std::unique_ptr<MapModels> map, Clock& step_clock, EstimateSink& sink)
+      : map_(std::move(map)),
+        estimator_(estimator_config(c), c.seed, map_->field, map_->free_space),
+        loop_(estimator_, c.timing),
+        port_(loop_, step_clock, sink) {
+    if (c.global)
+      estimator_.initialize_global(c.particles);
+    else
+      estimator_.initialize_at(c.initial_pose, c.initial_sigma_xy_m, c.initial_sigma_theta_rad, c.particles);
+  }
+
+  ValidatedSensorPort& port() override { return port_; }
+  void flush() override { port_.flush(); }
+  void set_transport_status(std::uint32_t bits) override { port_.set_transport_status(bits); }
+  void set_upstream_rejects(std::uint32_t total) override { port_.set_upstream_rejects(total); }
+  const est::loop::LoopCounters& loop_counters() const override { return port_.loop_counters(); }
+  const LoopPortRejectCounters& port_rejects() const override { return port_.rejects(); }
+  std::uint32_t published() const override { return port_.published(); }
+  std::uint32_t nonfinite_estimates() const override { return port_.nonfinite_estimates(); }
+  std::uint32_t particle_count() const override { return estimator_.filter().particles().count; }
+  std::string map_description() const override { return map_->description; }
+
+ private:
+  static est::loop::MclEstimatorConfig<Model> estimator_config(const NodeConfig& c) {
+    est::loop::MclEstimatorConfig<Model> e;
+    e.mcl.recovery = c.recovery;
+    e.mcl.alpha_slow = c.alpha_slow;
+    e.mcl.alpha_fast = c.alpha_fast;
+    e.motion = motion_params<Model>(c);
+    set_odometry<Model>(c, e.odometry);
+    e.sensor_mount = c.sensor_mount;
+    e.beam_stride = c.beam_stride;
+    e.cluster_cell = c.cluster_cell_m;
+    return e;
+  }
+
+  std::unique_ptr<MapModels> map_;
+  Estimator estimator_;
+  typename Port::Loop loop_;
+  Port port_;
+};
+
+}  // namespace
+
+std::unique_ptr<Pipeline> make_pipeline(const NodeConfig& c, Clock& step_clock, EstimateSink& sink) {
+  auto map = std::make_unique<MapModels>();
+  map->build(c);
+  if (c.model == RobotModel::bicycle)
+    return std::make_unique<ModelPipeline<est::BicycleMotionModel>>(c, std::move(map), step_clock, sink);
+  return std::make_unique<ModelPipeline<est::DiffDriveMotionModel>>(c, std::move(map), step_clock, sink);
+}
+
+}  // namespace hal::node

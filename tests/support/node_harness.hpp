@@ -1,0 +1,91 @@
+#pragma once
+// Helpers for the tests that run estimator_node as a process (tests/test_estimator_node.cpp, the VM test
+// tests/test_estimator_hil.cpp): running a command with its output captured, reading the node's summary, and
+// reading and comparing the estimates in LCM logs. Host only.
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <lcm/lcm-cpp.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <est_lcm/pose_estimate_t.hpp>
+
+#include "hal/status_word.hpp"
+
+namespace est::test {
+
+inline std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Runs `cmd` through sh with stdout and stderr into `output_path`; returns the exit status (-1: killed).
+inline int run_command(const std::string& cmd, const std::string& output_path) {
+  const int rc = std::system((cmd + " >" + output_path + " 2>&1").c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+// The value of `key=` on the summary line that starts with `line` (e.g. "  rejects.steering:"), -1 when absent.
+inline long long summary_value(const std::string& summary, const std::string& line, const std::string& key) {
+  std::istringstream in(summary);
+  std::string l;
+  while (std::getline(in, l)) {
+    if (l.compare(0, line.size(), line) != 0) continue;
+    const std::size_t at = l.find(" " + key + "=");
+    if (at == std::string::npos) return -1;
+    return std::atoll(l.c_str() + at + key.size() + 2);
+  }
+  return -1;
+}
+
+// The pose estimates of an LCM log, in order.
+inline std::vector<est_lcm::pose_estimate_t> read_estimates(const std::string& path,
+                                                             const std::string& channel = "EST_POSE") {
+  std::vector<est_lcm::pose_estimate_t> out;
+  ::lcm::LogFile log(path, "r");
+  if (!log.good()) return out;
+  while (const ::lcm::LogEvent* e = log.readNextEvent()) {
+    if (e->channel != channel) continue;
+    est_lcm::pose_estimate_t m;
+    if (m.decode(e->data, 0, e->datalen) == e->datalen) out.push_back(m);
+  }
+  return out;
+}
+
+// The bits a replay must reproduce: the loop's own, without the deadline overrun (the wall clock's) and without
+// input-rejected (which also counts transport rejects that a recorded input stream no longer carries).
+inline std::uint32_t replayable_status(std::int32_t status) {
+  return static_cast<std::uint32_t>(status) & hal::status::kLoopMask &
+         ~(hal::status::kDeadlineOverrun | hal::status::kInputRejected);
+}
+
+// Stamp, pose, covariance and the replayable status bits, bit for bit.
+inline bool same_estimate(const est_lcm::pose_estimate_t& a, const est_lcm::pose_estimate_t& b) {
+  return a.stamp_ns == b.stamp_ns && std::memcmp(&a.x_m, &b.x_m, sizeof(float)) == 0 &&
+         std::memcmp(&a.y_m, &b.y_m, sizeof(float)) == 0 &&
+         std::memcmp(&a.theta_rad, &b.theta_rad, sizeof(float)) == 0 &&
+         std::memcmp(a.covariance, b.covariance, sizeof(a.covariance)) == 0 &&
+         replayable_status(a.status) == replayable_status(b.status);
+}
+
+// Index of the first estimate that differs, or -1 when both sequences are the same (lengths included).
+inline long first_difference(const std::vector<est_lcm::pose_estimate_t>& a,
+                             const std::vector<est_lcm::pose_estimate_t>& b) {
+  const std::size_t n = a.size() < b.size() ? a.size() : b.size();
+  for (std::size_t i = 0; i < n; ++i)
+    if (!same_estimate(a[i], b[i])) return static_cast<long>(i);
+  return a.size() == b.size() ? -1 : static_cast<long>(n);
+}
+
+inline double wrap_angle(double a) { return std::remainder(a, 2.0 * 3.14159265358979323846); }
+
+}  // namespace est::test

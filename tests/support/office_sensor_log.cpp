@@ -1,0 +1,93 @@
+// A small recorded sensor stream (tests/support/office_sensor_log.hpp).
+#include "office_sensor_log.hpp"
+
+#include <lcm/lcm-cpp.hpp>
+#include <stdexcept>
+
+#include "est/random/xoshiro128.hpp"
+#include "hal/lcm/lcm_backend.hpp"
+#include "hal/lcm/lcm_convert.hpp"
+#include "world/office_world.hpp"
+#include "world/range_sensor.hpp"
+#include "world/robots.hpp"
+
+namespace est::test {
+
+namespace {
+
+template <typename Message>
+void write(::lcm::LogFile& log, const std::string& channel, hal::TimeNs stamp_ns, const Message& m) {
+  std::vector<std::uint8_t> buf(static_cast<std::size_t>(m.getEncodedSize()));
+  m.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  ::lcm::LogEvent e{};
+  e.timestamp = stamp_ns / 1000;
+  e.channel = channel;
+  e.datalen = static_cast<std::int32_t>(buf.size());
+  e.data = buf.data();
+  if (log.writeEvent(&e) != 0) throw std::runtime_error("cannot write the LCM log");
+}
+
+}  // namespace
+
+est::DiffDriveParams office_robot_truth() {
+  est::DiffDriveParams p;
+  p.wheel_radius = 0.05f;
+  p.track_width = 0.3f;
+  p.ticks_per_rev = 4096u;
+  p.travel_sigma_per_m = 0.02f;
+  p.travel_sigma_floor = 0.0005f;
+  p.final_rot_sigma = 0.002f;
+  return p;
+}
+
+OfficeStream write_office_stream(const std::string& path, const OfficeStreamSpec& spec) {
+  const auto& world = est::sim::office_world();
+  ::lcm::LogFile log(path, "w");
+  if (!log.good()) throw std::runtime_error("cannot create " + path);
+  const hal::lcm::Channels ch;
+  constexpr hal::TimeNs kStep = 10 * hal::kNsPerMs;
+  constexpr float kDt = 0.01f;
+
+  OfficeStream out;
+  out.start = world.route.pose_on_segment(0, 0.0f);
+  est::sim::DiffDriveRobot robot(world.route, out.start, 1, office_robot_truth(), spec.speed_mps, kDt);
+  est::Rng motion_rng(spec.seed), scan_rng(spec.seed + 1000u);
+  const est::ScanLayout layout = est::sim::lidar_360(spec.range_max_m);
+  std::vector<float> ranges;
+  hal::WheelTicks counters;
+  counters.wheel_count = 2;
+  const int steps = static_cast<int>(spec.duration_s * 100.0);
+  for (int k = 0; k <= steps; ++k) {
+    const hal::TimeNs t = spec.t0_ns + k * kStep;
+    if (k > 0) {
+      const est::DiffDriveControl u = robot.step(motion_rng);
+      counters.count[0] += static_cast<std::uint32_t>(u.left_ticks);  // a 32-bit counter wraps
+      counters.count[1] += static_cast<std::uint32_t>(u.right_ticks);
+    }
+    counters.stamp_ns = t;
+    write(log, ch.wheel_ticks, t, hal::lcm::to_lcm(counters, 32));
+    ++out.encoder_messages;
+    est_lcm::ground_truth_t g{};
+    g.stamp_ns = t;
+    g.x_m = robot.pose().x;
+    g.y_m = robot.pose().y;
+    g.theta_rad = robot.pose().theta;
+    write(log, ch.ground_truth, t, g);
+    out.truth_t.push_back(t);
+    out.truth.push_back(robot.pose());
+    if (k % spec.scan_every == 0) {
+      est::sim::simulate_scan(world.grid(), robot.pose(), est::Pose2{}, layout, est::sim::RangeNoise{}, scan_rng,
+                              ranges);
+      hal::RangeScanView v;
+      v.stamp_ns = t;
+      v.geometry = {layout.angle_min, layout.angle_increment, layout.range_min, layout.range_max, 0.1f};
+      v.ranges = ranges.data();
+      v.count = ranges.size();
+      write(log, ch.range_scan, t, hal::lcm::to_lcm(v));
+      ++out.scan_messages;
+    }
+  }
+  return out;
+}
+
+}  // namespace est::test

@@ -1,0 +1,189 @@
+// The HAL-to-loop adapter (hal/loop_port.hpp): HAL samples become the loop's inputs exactly, estimates carry the
+// loop's bits | the transports' bits and the reject count, transport events are never lost between estimates, what
+// the loop cannot take is rejected with a reason, and a non-finite estimate is never published.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <vector>
+
+#include "est/loop/filter_loop.hpp"
+#include "hal/loop_port.hpp"
+#include "hal/status_word.hpp"
+
+namespace {
+
+using hal::TimeNs;
+constexpr TimeNs kMs = hal::kNsPerMs;
+
+// Records the calls; x integrates the ticks so the output depends on them.
+struct FakeEstimator {
+  static constexpr bool kUsesSteering = true;
+  static constexpr bool kUsesScans = true;
+  std::vector<est::loop::MotionInput> predictions;
+  std::vector<est::ScanLayout> scans;
+  std::vector<float> first_ranges;
+  float x = 0.0f;
+  bool poison = false;
+  est::loop::StepOutcome predict(const est::loop::MotionInput& m) {
+    predictions.push_back(m);
+    x += 0.001f * static_cast<float>(m.left_ticks + m.right_ticks);
+    return est::loop::StepOutcome::applied;
+  }
+  est::loop::StepOutcome correct(const est::loop::ScanInput& s) {
+    scans.push_back(s.layout);
+    first_ranges.push_back(s.ranges[0]);
+    return est::loop::StepOutcome::applied;
+  }
+  est::PoseEstimate estimate() const {
+    est::PoseEstimate e;
+    e.mean = {poison ? std::nanf("") : x, 1.0f, 0.5f};
+    e.covariance = Eigen::Matrix3f::Identity() * 0.01f;
+    return e;
+  }
+};
+
+struct Clock final : hal::Clock {
+  TimeNs t = 0;
+  TimeNs now_ns() override { return t += 1000; }
+};
+
+struct Sink final : hal::EstimateSink {
+  std::vector<hal::Estimate> all;
+  void publish(const hal::Estimate& e) override { all.push_back(e); }
+};
+
+using Port = hal::LoopPort<FakeEstimator, 64, 16, 2>;
+
+struct Rig {
+  FakeEstimator est;
+  Port::Loop loop{est, est::loop::LoopTiming{}};
+  Clock clock;
+  Sink sink;
+  Port port{loop, clock, sink};
+
+  // Encoder samples every 10 ms: after the sample at k * 10 ms, those up to (k - 2) * 10 ms are applied (20 ms
+  // reorder window), and the estimate of each 10 ms prediction up to there is out.
+  void step(int k) { ticks(k * 10 * kMs, 1, 1); }
+  void ticks(TimeNs t, std::int32_t l, std::int32_t r) {
+    hal::WheelTickDelta d;
+    d.stamp_ns = t;
+    d.wheel_count = 2;
+    d.ticks[0] = l;
+    d.ticks[1] = r;
+    port.on_wheel_motion(d);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("HAL samples become the loop's inputs exactly", "[loop_port]") {
+  hal::WheelTickDelta d;
+  d.stamp_ns = 123456789;
+  d.dt_ns = 10 * kMs;
+  d.wheel_count = 2;
+  d.ticks[0] = -70000;
+  d.ticks[1] = 2147483647;
+  const est::loop::WheelTicksInput w = hal::to_loop_input(d);
+  CHECK(w.t_ns == 123456789);
+  CHECK(w.left_ticks == -70000);
+  CHECK(w.right_ticks == 2147483647);
+
+  const est::loop::SteeringInput s = hal::to_loop_input(hal::SteeringSample{42, -0.3125f});
+  CHECK(s.t_ns == 42);
+  CHECK(s.angle_rad == -0.3125f);
+
+  const float ranges[3] = {1.0f, INFINITY, 0.01f};
+  hal::RangeScanView v{77, {-3.1f, 0.0175f, 0.05f, 12.0f, 0.1f}, ranges, 3};
+  const est::loop::ScanInput in = hal::to_loop_input(v);
+  CHECK(in.t_ns == 77);
+  CHECK(in.layout.angle_min == -3.1f);
+  CHECK(in.layout.angle_increment == 0.0175f);
+  CHECK(in.layout.count == 3);
+  CHECK(in.layout.range_min == 0.05f);
+  CHECK(in.layout.range_max == 12.0f);
+  CHECK(in.ranges == ranges);  // not copied here: the loop's queue copies
+}
+
+TEST_CASE("the loop runs after every input and every tick reaches a prediction", "[loop_port]") {
+  Rig r;
+  for (int k = 0; k <= 50; ++k) r.ticks(k * 10 * kMs, 3, 4);
+  r.port.flush();
+  std::int64_t left = 0, right = 0;
+  for (const auto& m : r.est.predictions) {
+    left += m.left_ticks;
+    right += m.right_ticks;
+  }
+  // Samples 0..49 reach the predictions at 10..500 ms; the last one's increments wait for a prediction after it.
+  CHECK(left == 50 * 3);
+  CHECK(right == 50 * 4);
+  REQUIRE(r.sink.all.size() == r.port.published());
+  CHECK(r.sink.all.size() == 50u);  // one estimate per 10 ms period
+  CHECK(r.sink.all.back().stamp_ns == 500 * kMs);
+  CHECK(r.sink.all.back().pose.x == r.est.x);
+}
+
+TEST_CASE("an estimate carries the loop's bits, the transports' bits and the reject count", "[loop_port]") {
+  Rig r;
+  r.port.set_transport_status(hal::status::kCanErrorPassive | hal::status::kCanRxOverflow | 0x3u /* loop bits */);
+  r.port.set_upstream_rejects(5);
+  for (int k = 0; k <= 3; ++k) r.step(k);  // publishes the estimate at 10 ms
+  REQUIRE(r.sink.all.size() == 1u);
+  const hal::Estimate& e = r.sink.all[0];
+  // The loop's own bits: no steering and no scan yet -> their timeouts; the transports' as given; 0x3 was not
+  // the transports' to set and is masked out (the encoder timeout bit is not up: ticks are fresh).
+  CHECK((e.status & hal::status::kSteeringTimeout) != 0u);
+  CHECK((e.status & hal::status::kScanTimeout) != 0u);
+  CHECK((e.status & hal::status::kEncoderTimeout) == 0u);
+  CHECK((e.status & hal::status::kCanErrorPassive) != 0u);
+  CHECK((e.status & hal::status::kCanRxOverflow) != 0u);
+  CHECK(e.rejected_inputs == 5u);
+  CHECK((e.status & hal::status::kInputRejected) != 0u);  // 5 rejects since the (absent) previous estimate
+
+  // An event reported once is in the next estimate even if the transport has cleared it by then; then it is gone.
+  r.port.set_transport_status(hal::status::kCanProtocolError);
+  r.port.set_transport_status(0);
+  r.step(4);
+  REQUIRE(r.sink.all.size() == 2u);
+  CHECK((r.sink.all[1].status & hal::status::kCanProtocolError) != 0u);
+  CHECK((r.sink.all[1].status & hal::status::kInputRejected) == 0u);  // no new reject
+  r.step(5);
+  REQUIRE(r.sink.all.size() == 3u);
+  CHECK((r.sink.all[2].status & hal::status::kTransportMask) == 0u);
+}
+
+TEST_CASE("what the loop cannot take is rejected with a reason and counted", "[loop_port]") {
+  Rig r;
+  hal::WheelTickDelta one_wheel;
+  one_wheel.wheel_count = 1;
+  r.port.on_wheel_motion(one_wheel);
+  float ranges[17] = {};
+  r.port.on_range_scan(hal::RangeScanView{0, {0.0f, 0.1f, 0.05f, 10.0f, 0.1f}, ranges, 17});  // capacity is 16
+  r.port.on_range_scan(hal::RangeScanView{0, {0.0f, 0.1f, 0.05f, 10.0f, 0.1f}, ranges, 0});
+  CHECK(r.port.rejects()[hal::LoopPortReject::wheel_count] == 1u);
+  CHECK(r.port.rejects()[hal::LoopPortReject::scan_too_large] == 2u);
+  CHECK(r.port.rejected_inputs() == 3u);
+  CHECK(r.port.loop_counters().inputs == 0u);
+
+  ranges[0] = 2.5f;
+  r.ticks(0, 0, 0);
+  r.port.on_range_scan(hal::RangeScanView{5 * kMs, {0.0f, 0.1f, 0.05f, 10.0f, 0.1f}, ranges, 16});
+  r.port.flush();
+  REQUIRE(r.est.scans.size() == 1u);
+  CHECK(r.est.scans[0].count == 16);
+  CHECK(r.est.first_ranges[0] == 2.5f);
+}
+
+TEST_CASE("a non-finite estimate is never published: the last good pose is held and flagged", "[loop_port]") {
+  Rig r;
+  for (int k = 0; k <= 3; ++k) r.step(k);
+  REQUIRE(r.sink.all.size() == 1u);
+  const hal::Estimate good = r.sink.all[0];
+  r.est.poison = true;
+  r.step(4);
+  REQUIRE(r.sink.all.size() == 2u);
+  const hal::Estimate& held = r.sink.all[1];
+  CHECK(held.pose.x == good.pose.x);
+  CHECK(held.pose.y == good.pose.y);
+  CHECK(held.covariance == good.covariance);
+  CHECK((held.status & hal::status::kFilterDegenerate) != 0u);
+  CHECK(r.port.nonfinite_estimates() == 1u);
+}
