@@ -15,7 +15,8 @@ constexpr Section kSections[] = {
     {"sensors", section_sensors, 0x10b2b53ad7117cf3ull},
     {"motion_a", section_motion_a, 0x651a71140c8e686eull},
     {"ekf", section_ekf, 0x9f2512c664b22560ull},
-    {"mcl", section_mcl, 0x6ee7a652bc97399aull},
+    {"mcl", section_mcl, 0x25e68dec342c542eull},
+    {"loop", section_loop, 0x50ab3fbb3e271872ull},
 };
 
 }  // namespace

@@ -34,5 +34,6 @@ std::uint64_t section_sensors();
 std::uint64_t section_motion_a();
 std::uint64_t section_ekf();
 std::uint64_t section_mcl();
+std::uint64_t section_loop();
 
 }  // namespace est::selftest
