@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "est/filter/augmented_mcl.hpp"
+#include "est/motion/motion_batch.hpp"
 #include "est/util/digest.hpp"
 
 // Filter-logic tests with a minimal motion model and range beacons, so they do not depend on the full sensor
@@ -205,4 +206,28 @@ TEST_CASE("same seed and inputs give bit-identical particle sets", "[mcl]") {
     return d.value();
   };
   CHECK(run() == run());
+}
+
+TEST_CASE("correct_batch gives the bits of correct; predict_batch refuses and counts like predict", "[mcl]") {
+  est::MclConfig cfg;
+  static est::AugmentedMcl<300> a(cfg, 0u), b(cfg, 0u);
+  a = est::AugmentedMcl<300>(cfg, 8u);
+  b = est::AugmentedMcl<300>(cfg, 8u);
+  a.initialize_global(uniform_box, 300);
+  b.initialize_global(uniform_box, 300);
+  const auto model = beacon_model(measure({4.0f, 4.0f, 0.0f}, nullptr));
+  const auto ra = a.correct(model);
+  const auto rb = b.correct_batch([&](est::ConstParticleSetView p, float* out) {
+    for (std::uint32_t i = 0; i < p.count; ++i) out[i] = model(p.pose(i));
+  });
+  CHECK(ra.log_mean_likelihood == rb.log_mean_likelihood);
+  for (std::uint32_t i = 0; i < 300; ++i) CHECK(a.particles().log_w[i] == b.particles().log_w[i]);
+  // Walk has no batched form: predict_batch falls back to its sampler, so the sets stay equal.
+  a.predict<Walk>({0.1f, 0.0f, 0.0f}, {0.05f, 0.01f});
+  b.predict_batch<Walk>({0.1f, 0.0f, 0.0f}, {0.05f, 0.01f});
+  CHECK(a.particles().x[17] == b.particles().x[17]);
+  CHECK(b.predict_batch<Walk>({std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f}, {0.05f, 0.01f}) ==
+        est::MotionStatus::rejected_nonfinite);
+  CHECK(b.counters().rejected_controls == 1u);
+  CHECK(b.counters().predictions == 1u);
 }

@@ -1,8 +1,16 @@
 #include <catch2/catch.hpp>
 #include <Eigen/Core>
+#include <cmath>
 #include <memory>
 #include <vector>
 
+#include "est/filter/augmented_mcl.hpp"
+#include "est/filter/free_space_sampler.hpp"
+#include "est/filter/two_landmark_sampler.hpp"
+#include "est/map/ray_casting.hpp"
+#include "est/motion/bicycle_model.hpp"
+#include "est/sensor/beam_range_finder_model.hpp"
+#include "est/sensor/likelihood_field_grid.hpp"
 #include "heap_guard.hpp"
 #include "selftest.hpp"
 
@@ -33,4 +41,84 @@ TEST_CASE("the whole self-test workload runs without touching the heap", "[heap]
   const auto count = guard.allocations();
   CHECK(n >= 2);
   CHECK(count == 0u);
+}
+
+namespace {
+est::OccupancyGridStorage<80, 60> g_mcl_grid;
+est::DistanceTransformStorage<80, 60> g_mcl_edt;
+est::LikelihoodFieldGridStorage<80, 60> g_mcl_field_grid;
+est::LikelihoodField g_mcl_field;
+est::PreparedScan<60> g_mcl_scan;
+est::LandmarkMapStorage<4> g_mcl_landmarks;
+est::AugmentedMcl<2048> g_mcl(est::MclConfig{}, 1u);
+}  // namespace
+
+TEST_CASE("MCL steps (predict, both range models, landmarks, KLD resampling with injection) never touch the heap",
+          "[heap]") {
+  // Set-up (maps, transforms, tables) may run before the guard; the steps run under it.
+  g_mcl_grid.configure(80, 60, 0.1f, 0.0f, 0.0f, est::kFreeCell);
+  g_mcl_grid.fill_rect(0, 0, 79, 0, est::kOccupiedCell);
+  g_mcl_grid.fill_rect(0, 59, 79, 59, est::kOccupiedCell);
+  g_mcl_grid.fill_rect(0, 0, 0, 59, est::kOccupiedCell);
+  g_mcl_grid.fill_rect(79, 0, 79, 59, est::kOccupiedCell);
+  g_mcl_grid.fill_rect(30, 10, 35, 40, est::kOccupiedCell);
+  const est::OccupancyGrid grid = g_mcl_grid.grid();
+  REQUIRE(g_mcl_edt.build(grid) == est::MapStatus::ok);
+  est::LikelihoodFieldParams lp;
+  lp.range_max = 8.0f;
+  REQUIRE(g_mcl_field.configure(lp, grid, g_mcl_edt.view()) == est::SensorModelStatus::ok);
+  REQUIRE(g_mcl_field_grid.build(g_mcl_field, grid) == est::MapStatus::ok);
+  est::BeamRangeFinderModel beam;
+  est::BeamModelParams bp;
+  bp.range_max = 8.0f;
+  REQUIRE(beam.configure(bp) == est::SensorModelStatus::ok);
+  g_mcl_landmarks.clear();
+  g_mcl_landmarks.add({1.0f, 1.0f, 1.0f});
+  g_mcl_landmarks.add({6.0f, 5.0f, 2.0f});
+  const est::DistanceTransformRayCaster caster(grid, g_mcl_edt.view());
+  const est::FreeSpaceSampler free_space(grid, g_mcl_edt.view(), 0.2f);
+  const est::LandmarkNoise noise{0.05f, 0.02f, 0.0f};
+  est::TwoLandmarkSampler<8> from_landmarks(g_mcl_landmarks.view(), noise);
+  est::MclConfig cfg;
+  cfg.kld = true;
+  g_mcl = est::AugmentedMcl<2048>(cfg, 3u);
+  const est::ScanLayout layout{-est::kPi, est::kTwoPi / 60.0f, 60, 0.05f, 8.0f};
+  float ranges[60];
+  for (int k = 0; k < 60; ++k) ranges[k] = 1.0f + 0.05f * static_cast<float>(k);
+  const auto is_free = [&grid](float x, float y) {
+    std::int32_t cx = 0, cy = 0;
+    return grid.world_to_cell(x, y, cx, cy) && grid.classify(cx, cy) == est::CellClass::free;
+  };
+  est::BicycleParams bike;
+  bike.steer_sigma = 0.05f;
+  bike.speed_var_per_speed = 0.01f;
+  bike.final_rot_sigma = 0.01f;
+  const est::Pose2 truth{5.0f, 3.0f, 0.5f};
+
+  est::test::HeapGuard guard;
+  g_mcl.initialize_global(free_space, 2048);
+  float checksum = 0.0f;
+  for (int t = 0; t < 6; ++t) {
+    g_mcl.predict_in_map<est::BicycleMotionModel>({0.5f, 0.1f}, bike, is_free);
+    g_mcl_scan.prepare(layout, ranges);
+    const est::ScanBeams z = g_mcl_scan.beams();
+    const est::LikelihoodFieldGrid field = g_mcl_field_grid.view();
+    g_mcl.correct_batch([&](est::ConstParticleSetView p, float* out) {
+      est::likelihood_field_range_finder_model_batch(z, p.x, p.y, p.theta, p.count, {}, field, out);
+    });
+    g_mcl.correct([&](const est::Pose2& x) { return est::beam_range_finder_model(z, x, {}, caster, beam); });
+    from_landmarks.clear();
+    for (std::int32_t j = 0; j < 2; ++j)
+      from_landmarks.add(est::expected_landmark_measurement(truth, g_mcl_landmarks.view()[j]), j);
+    g_mcl.correct([&](const est::Pose2& x) {
+      return est::landmark_model_known_correspondence(
+          est::expected_landmark_measurement(truth, g_mcl_landmarks.view()[0]), 0, x, g_mcl_landmarks.view(), noise);
+    });
+    g_mcl.resample([&](est::Rng& rng, est::Pose2& p) { return from_landmarks(rng, p) || free_space(rng, p); }, true);
+    checksum += g_mcl.cluster_estimate().strongest.mean.x;
+  }
+  const auto count = guard.allocations();
+  CHECK(count == 0u);
+  CHECK(std::isfinite(checksum));
+  CHECK(g_mcl.counters().resamplings == 6u);
 }

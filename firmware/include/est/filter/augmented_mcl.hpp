@@ -9,6 +9,8 @@
 // callable `float log_likelihood(const Pose2&)`, any map given as a callable `bool is_free(float x, float y)`, and
 // any source of recovery particles given as a callable `bool draw(Rng&, Pose2&)` (uniform over free space, or the
 // two-landmark closed-form pose). No heap: N_max is the template parameter; every loop is bounded by it.
+// Whole-set forms for speed: predict_batch (est/motion/motion_batch.hpp: same distribution, vectorizable) and
+// correct_batch (a batched log-likelihood such as likelihood_field_range_finder_model_batch: same bits).
 #include <cstdint>
 
 #include "est/filter/kld_sampling.hpp"
@@ -109,24 +111,36 @@ class AugmentedMcl {
     return s;
   }
 
+  // The same prediction for the whole set at once by sample_motion_batch (est/motion/motion_batch.hpp, which the
+  // caller includes): noise drawn in bulk, inline trigonometry; the same distribution as predict(), not the same
+  // bits. The scratch set holds the noise (it is idle between resamplings).
+  template <typename Model>
+  MotionStatus predict_batch(const typename Model::Control& u, const typename Model::Params& p) {
+    const MotionStatus s = Model::check(u, p);
+    if (!usable(s)) {
+      ++counters_.rejected_controls;
+      return s;
+    }
+    ParticleSetView v = set_.view();
+    ParticleSetView scratch = set_.scratch();
+    sample_motion_batch(Model{}, u, p, v.x, v.y, v.theta, v.count, rng_, {scratch.x, scratch.y, scratch.theta});
+    ++counters_.predictions;
+    return s;
+  }
+
   // Prediction conditioned on the map (Thrun eq. 5.47): as predict(), then log p(x | m) added to each weight.
   template <typename Model, typename IsFree>
   MotionStatus predict_in_map(const typename Model::Control& u, const typename Model::Params& p,
                               const IsFree& is_free) {
     const MotionStatus s = predict<Model>(u, p);
-    if (!usable(s)) return s;
-    ParticleSetView v = set_.view();
-    std::uint32_t penalized = 0;
-    for (std::uint32_t i = 0; i < v.count; ++i) {
-      if (!is_free(v.x[i], v.y[i])) {
-        v.log_w[i] += config_.occupied_log_weight;
-        ++penalized;
-      }
-    }
-    if (penalized > 0u) {
-      counters_.map_penalized += penalized;
-      normalize_log_weights(v.log_w, v.count);
-    }
+    if (usable(s)) penalize_occupied(is_free);
+    return s;
+  }
+  template <typename Model, typename IsFree>
+  MotionStatus predict_in_map_batch(const typename Model::Control& u, const typename Model::Params& p,
+                                    const IsFree& is_free) {
+    const MotionStatus s = predict_batch<Model>(u, p);
+    if (usable(s)) penalize_occupied(is_free);
     return s;
   }
 
@@ -136,17 +150,20 @@ class AugmentedMcl {
     ParticleSetView v = set_.view();
     // log w_avg = log( sum_i w_i p(z|x_i) ) for normalized prior weights: the predictive likelihood of z.
     for (std::uint32_t i = 0; i < v.count; ++i) v.log_w[i] += log_likelihood(v.pose(i));
-    const LogNormalization n = normalize_log_weights(v.log_w, v.count);
-    ++counters_.corrections;
-    counters_.nonfinite_weights += n.nonfinite;
-    CorrectionReport r{n.log_sum, effective_sample_size(v.log_w, v.count), n.degenerate};
-    if (n.degenerate) {
-      ++counters_.degenerate_corrections;
-      force_recovery_ = true;  // nothing explains z: the next resampling injects as many particles as allowed
-    } else {
-      update_averages(n.log_sum);
-    }
-    return r;
+    return finish_correction(v);
+  }
+
+  // The same correction with the log-likelihoods of the whole set computed at once by
+  // `batch(ConstParticleSetView, float* out)` (e.g. likelihood_field_range_finder_model_batch, which vectorizes
+  // across particles): bit-identical to correct() when batch gives the per-particle values. `out` is the scratch
+  // buffer's weight array, idle between resamplings.
+  template <typename BatchLogLikelihood>
+  CorrectionReport correct_batch(const BatchLogLikelihood& batch) {
+    ParticleSetView v = set_.view();
+    float* ll = set_.scratch().log_w;
+    batch(ConstParticleSetView(v), ll);
+    for (std::uint32_t i = 0; i < v.count; ++i) v.log_w[i] += ll[i];
+    return finish_correction(v);
   }
 
   // Resampling when ESS < fraction * N (always when `force`), with augmented-MCL injection drawn by `draw`.
@@ -184,7 +201,8 @@ class AugmentedMcl {
     for (std::uint32_t k = 0; k < m; ++k) out.log_w[k] = lw;
     set_.swap_with_scratch(m);
     ++counters_.resamplings;
-    if (n_inject > 0u) reset_averages();  // table 8.3 resets nothing, but after injection the averages restart
+    // As table 8.3: the averages are NOT reset after an injection. Restarting them at the (low) likelihood of a
+    // kidnapped robot would make w_fast = w_slow there and stop the injection after one burst of a few percent.
     force_recovery_ = false;
     return true;
   }
@@ -210,6 +228,36 @@ class AugmentedMcl {
   Rng& rng() { return rng_; }
 
  private:
+  template <typename IsFree>
+  void penalize_occupied(const IsFree& is_free) {
+    ParticleSetView v = set_.view();
+    std::uint32_t penalized = 0;
+    for (std::uint32_t i = 0; i < v.count; ++i) {
+      if (!is_free(v.x[i], v.y[i])) {
+        v.log_w[i] += config_.occupied_log_weight;
+        ++penalized;
+      }
+    }
+    if (penalized > 0u) {
+      counters_.map_penalized += penalized;
+      normalize_log_weights(v.log_w, v.count);
+    }
+  }
+
+  CorrectionReport finish_correction(ParticleSetView v) {
+    const LogNormalization n = normalize_log_weights(v.log_w, v.count);
+    ++counters_.corrections;
+    counters_.nonfinite_weights += n.nonfinite;
+    CorrectionReport r{n.log_sum, effective_sample_size(v.log_w, v.count), n.degenerate};
+    if (n.degenerate) {
+      ++counters_.degenerate_corrections;
+      force_recovery_ = true;  // nothing explains z: the next resampling injects as many particles as allowed
+    } else {
+      update_averages(n.log_sum);
+    }
+    return r;
+  }
+
   void reset_averages() {
     averages_valid_ = false;
     force_recovery_ = false;

@@ -1,0 +1,173 @@
+#pragma once
+// Motion sampling for a whole particle set at once: x_i ~ p(x | u, x_i) for every particle, as Model::sample does
+// one particle at a time, but with the noise drawn in bulk (fill_standard_normals: Box-Muller pairs, both halves
+// used) and the arc evaluated with inline trigonometry (est/math/inline_math.hpp). The same distribution as the
+// model's own sampler, NOT the same bits (different normal draws; kernels within 2 ULP of fmath): the particle
+// filter's batched prediction (AugmentedMcl::predict_batch) uses it; tests/test_motion_batch.cpp compares the two
+// samplers' distributions (two-sample KS).
+//
+// Models without a batched form fall back to their own sampler, one particle at a time (the generic overload).
+// Noise buffers: three arrays of n floats (MCL passes its idle scratch set). Non-finite particles and angles beyond
+// the inline range take fmath's path, so the result is never worse than the scalar sampler's.
+#include <cstdint>
+
+#include "est/geometry/pose2.hpp"
+#include "est/math/fmath.hpp"
+#include "est/math/inline_math.hpp"
+#include "est/motion/bicycle_model.hpp"
+#include "est/motion/circular_arc.hpp"
+#include "est/motion/diff_drive_model.hpp"
+#include "est/motion/motion_model.hpp"
+#include "est/random/normal_batch.hpp"
+#include "est/random/xoshiro128.hpp"
+
+namespace est {
+
+struct NoiseBuffers {
+  float* a;
+  float* b;
+  float* c;
+};
+
+// Any model: its own sample(), particle by particle (bit-identical to a loop over Model::sample).
+template <class Model>
+void sample_motion_batch(const Model&, const typename Model::Control& u, const typename Model::Params& p, float* x,
+                         float* y, float* theta, std::uint32_t n, Rng& rng, NoiseBuffers) {
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const Pose2 q = Model::sample({x[i], y[i], theta[i]}, u, p, rng);
+    x[i] = q.x;
+    y[i] = q.y;
+    theta[i] = q.theta;
+  }
+}
+
+namespace motion_batch_detail {
+
+// x += chord (cos, sin)(theta + turn), theta <- wrap(wrap(theta + 2h) + gamma): the chord form shared by the arc
+// models, inline where |theta + turn| <= 64 and |2h + gamma| stays within one wrap; fmath otherwise (and for NaN).
+inline void move_on_arc(float& x, float& y, float& theta, float turn, float chord, float h, float gamma) {
+  const float dir = theta + turn;
+  float sn = 0.0f, cs = 0.0f;
+  if (fmath::abs(dir) <= 64.0f) {
+    imath::sincos_moderate(dir, sn, cs);
+  } else {
+    fmath::sincos(dir, sn, cs);
+  }
+  x += chord * cs;
+  y += chord * sn;
+  const float t = theta + 2.0f * h;
+  if (fmath::abs(theta) <= kPi && fmath::abs(2.0f * h) <= kPi && fmath::abs(gamma) <= kPi) {
+    theta = imath::wrap_angle_near(imath::wrap_angle_near(t) + gamma);
+  } else {
+    theta = fmath::normalize_angle(fmath::normalize_angle(t) + gamma);
+  }
+}
+
+}  // namespace motion_batch_detail
+
+// Bicycle (sample_motion_model_bicycle): steering, speed and final-rotation noise, then the exact arc.
+// Two passes: the common case (steering inside the stops, |h| < 0.1 where sinc is its series, heading and final
+// rotation within (-pi, pi]) without a branch, so the compiler vectorizes it across particles; it marks the noise it
+// consumed with NaN, and the second pass takes the few particles left (folded steering, long arcs, NaN poses)
+// through the general path.
+inline void sample_motion_batch(const BicycleMotionModel&, const BicycleControl& u, const BicycleParams& p, float* x,
+                                float* y, float* theta, std::uint32_t n, Rng& rng, NoiseBuffers noise) {
+  if (!usable(check_motion_bicycle(u, p))) return;
+  fill_standard_normals(rng, noise.a, n);
+  fill_standard_normals(rng, noise.b, n);
+  fill_standard_normals(rng, noise.c, n);
+  const float a_cmd = bicycle_detail::clamp_steer(u.steer, p.steer_max);
+  const float a_max = p.steer_max;
+  const float v_sigma = bicycle_detail::speed_sigma(u.v, p);
+  const float half_dt_over_l = 0.5f * p.dt / p.frame_length;
+  const float done = __builtin_nanf("");
+  float* __restrict px = x;
+  float* __restrict py = y;
+  float* __restrict pt = theta;
+  float* __restrict na = noise.a;
+  const float* __restrict nb = noise.b;
+  const float* __restrict nc = noise.c;
+  const float steer_sigma = p.steer_sigma, rot_sigma = p.final_rot_sigma, dt = p.dt, v_cmd = u.v;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const float a_raw = a_cmd + steer_sigma * na[i];
+    const float a = imath::select(a_raw > a_max, a_max, imath::select(a_raw < -a_max, -a_max, a_raw));
+    const float v = v_cmd + v_sigma * nb[i];
+    const float gamma = rot_sigma * nc[i];
+    const float th = pt[i];
+    // sin a = 2 sin(a/2) cos(a/2), with |a/2| < pi/4 inside the kernels' range: no quadrant logic, which GCC
+    // (knowing |a| <= a_max) would turn into branches here.
+    const float sa = 2.0f * imath::sin_kernel(0.5f * a) * imath::cos_kernel(0.5f * a);
+    const float h = v * sa * half_dt_over_l;
+    const bool ok =
+        (a == a_raw) & (fmath::abs(h) < arc::kSeriesBelow) & (fmath::abs(th) <= kPi) & (fmath::abs(gamma) <= kPi);
+    const float h2 = h * h;
+    const float chord = v * dt * (1.0f - h2 * (1.0f / 6.0f) + h2 * h2 * (1.0f / 120.0f));  // arc::sinc's series
+    float sn = 0.0f, cs = 0.0f;
+    imath::sincos_moderate(imath::select(ok, th + a + h, 0.0f), sn, cs);
+    const float t = imath::wrap_angle_near((th + 2.0f * h) + gamma);  // |.| < 2.1 pi: one wrap suffices
+    px[i] = imath::select(ok, px[i] + chord * cs, px[i]);
+    py[i] = imath::select(ok, py[i] + chord * sn, py[i]);
+    pt[i] = imath::select(ok, t, th);
+    na[i] = imath::select(ok, done, na[i]);
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (na[i] != na[i]) continue;  // moved by the first pass
+    const float a = bicycle_detail::fold_steer(a_cmd + p.steer_sigma * na[i], p.steer_max);
+    const float v = u.v + v_sigma * nb[i];
+    const float gamma = p.final_rot_sigma * nc[i];
+    float sa = 0.0f, ca = 0.0f;
+    imath::sincos_moderate(a, sa, ca);  // |a| <= a_max < pi/2
+    const float h = v * sa * half_dt_over_l;
+    const float chord = v * p.dt * arc::sinc(h);
+    motion_batch_detail::move_on_arc(px[i], py[i], pt[i], a + h, chord, h, gamma);
+  }
+}
+
+// Differential drive (sample_motion_model_diff_drive): per-wheel travel noise and final rotation, then the arc.
+// The same two passes as the bicycle (the common case: |h| < 0.1, heading and final rotation within (-pi, pi]).
+inline void sample_motion_batch(const DiffDriveMotionModel&, const DiffDriveControl& u, const DiffDriveParams& p,
+                                float* x, float* y, float* theta, std::uint32_t n, Rng& rng, NoiseBuffers noise) {
+  if (!usable(check_motion_diff_drive(u, p))) return;
+  const WheelTravel d = wheel_travel_from_ticks(u, p);
+  fill_standard_normals(rng, noise.a, n);
+  fill_standard_normals(rng, noise.b, n);
+  fill_standard_normals(rng, noise.c, n);
+  const float sl = diff_drive_detail::travel_sigma(d.left, p), sr = diff_drive_detail::travel_sigma(d.right, p);
+  const float half_over_b = 0.5f / p.track_width;
+  const float done = __builtin_nanf("");
+  float* __restrict px = x;
+  float* __restrict py = y;
+  float* __restrict pt = theta;
+  float* __restrict na = noise.a;
+  const float* __restrict nb = noise.b;
+  const float* __restrict nc = noise.c;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const float left = d.left + sl * na[i];
+    const float right = d.right + sr * nb[i];
+    const float gamma = p.final_rot_sigma * nc[i];
+    const float th = pt[i];
+    const float s = 0.5f * (left + right);
+    const float h = (right - left) * half_over_b;
+    const bool ok = (fmath::abs(h) < arc::kSeriesBelow) & (fmath::abs(th) <= kPi) & (fmath::abs(gamma) <= kPi);
+    const float h2 = h * h;
+    const float chord = s * (1.0f - h2 * (1.0f / 6.0f) + h2 * h2 * (1.0f / 120.0f));  // arc::sinc's series
+    float sn = 0.0f, cs = 0.0f;
+    imath::sincos_moderate(imath::select(ok, th + h, 0.0f), sn, cs);
+    const float t = imath::wrap_angle_near((th + 2.0f * h) + gamma);  // |.| < 2.1 pi: one wrap suffices
+    px[i] = imath::select(ok, px[i] + chord * cs, px[i]);
+    py[i] = imath::select(ok, py[i] + chord * sn, py[i]);
+    pt[i] = imath::select(ok, t, th);
+    na[i] = imath::select(ok, done, na[i]);
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (na[i] != na[i]) continue;
+    const float left = d.left + sl * na[i];
+    const float right = d.right + sr * nb[i];
+    const float gamma = p.final_rot_sigma * nc[i];
+    const float s = 0.5f * (left + right);
+    const float h = (right - left) * half_over_b;
+    motion_batch_detail::move_on_arc(px[i], py[i], pt[i], h, s * arc::sinc(h), h, gamma);
+  }
+}
+
+}  // namespace est
