@@ -112,9 +112,10 @@ TEST_CASE("the loop runs after every input and every tick reaches a prediction",
     left += m.left_ticks;
     right += m.right_ticks;
   }
-  // Samples 0..49 reach the predictions at 10..500 ms; the last one's increments wait for a prediction after it.
-  CHECK(left == 50 * 3);
-  CHECK(right == 50 * 4);
+  // An increment stamped t is motion up to t, so it is in the prediction at t: samples 0..50 all reach the
+  // predictions at 10..500 ms (the one stamped 0 joins the first).
+  CHECK(left == 51 * 3);
+  CHECK(right == 51 * 4);
   REQUIRE(r.sink.all.size() == r.port.published());
   CHECK(r.sink.all.size() == 50u);  // one estimate per 10 ms period
   CHECK(r.sink.all.back().stamp_ns == 500 * kMs);

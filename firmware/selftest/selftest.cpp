@@ -16,7 +16,7 @@ constexpr Section kSections[] = {
     {"motion_a", section_motion_a, 0x651a71140c8e686eull},
     {"ekf", section_ekf, 0x9f2512c664b22560ull},
     {"mcl", section_mcl, 0x25e68dec342c542eull},
-    {"loop", section_loop, 0x50ab3fbb3e271872ull},
+    {"loop", section_loop, 0x275c96dbff3ca68bull},
 };
 
 }  // namespace

@@ -94,27 +94,17 @@ class FilterLoop {
       applied_any_ = true;
       last_predict_t_ = t;
       next_predict_t_ = t + timing_.predict_period_ns;
+      ticks_until_t_ = t;
     }
-    // Fixed-rate predictions up to t, each followed by an output.
-    std::uint32_t catch_up = 0;
-    while (next_predict_t_ <= t) {
-      if (++catch_up > timing_.max_catch_up_predictions) {  // a gap in the inputs: one prediction across it
-        next_predict_t_ = t;
-        predict_to(clock, t);
-        next_predict_t_ = t + timing_.predict_period_ns;
-        publish(sink, t);
-        break;
-      }
-      predict_to(clock, next_predict_t_);
-      publish(sink, next_predict_t_);
-      next_predict_t_ += timing_.predict_period_ns;
-    }
+    // Predictions strictly before t: an increment stamped t is motion up to t, so it belongs in a prediction at t.
+    advance_predictions(clock, sink, t, false);
     applied_t_ = t;
     switch (q.kind) {
       case InputKind::wheel_ticks:
         pending_left_ += q.ticks.left_ticks;
         pending_right_ += q.ticks.right_ticks;
         last_encoder_t_ = t;
+        ticks_until_t_ = t;
         have_encoder_ = true;
         queue_.pop();
         break;
@@ -125,6 +115,7 @@ class FilterLoop {
         queue_.pop();
         break;
       case InputKind::scan: {
+        take_motion_until(t);
         if (t > last_predict_t_) predict_to(clock, t);
         const TimeNs t0 = clock();
         const StepOutcome o = est_.correct(queue_.scan(q));
@@ -137,6 +128,44 @@ class FilterLoop {
         break;
       }
     }
+    // The prediction at t itself waits while more inputs stamped t are queued (a scan at t publishes for it).
+    if (queue_.empty() || queue_.front_time() > t) advance_predictions(clock, sink, t, true);
+  }
+
+  // Fixed-rate predictions up to t (inclusive or not), each followed by an output; a prediction time a scan already
+  // predicted to is published without predicting again.
+  template <typename Clock, typename Sink>
+  void advance_predictions(Clock& clock, Sink& sink, TimeNs t, bool inclusive) {
+    std::uint32_t catch_up = 0;
+    while (inclusive ? next_predict_t_ <= t : next_predict_t_ < t) {
+      if (++catch_up > timing_.max_catch_up_predictions) {  // a gap in the inputs: one prediction across it
+        const TimeNs to = inclusive ? t : t - 1;
+        if (to > last_predict_t_) predict_to(clock, to);
+        publish(sink, to);
+        next_predict_t_ = to + timing_.predict_period_ns;
+        break;
+      }
+      if (next_predict_t_ > last_predict_t_) predict_to(clock, next_predict_t_);
+      if (!published_any_ || next_predict_t_ != last_published_t_) publish(sink, next_predict_t_);
+      next_predict_t_ += timing_.predict_period_ns;
+    }
+  }
+
+  // Encoder increments cover (previous stamp, stamp]. When the next increment is already queued and spans the scan
+  // time, the share up to the scan (linear in time, rounded toward zero) is moved into the pending motion; the rest
+  // stays queued. Without it, the motion of a whole encoder period (or of a bus outage) would be applied after the
+  // scan instead of before.
+  void take_motion_until(TimeNs t) {
+    QueuedInput* next = queue_.next_of_kind(InputKind::wheel_ticks);
+    if (next == nullptr || !have_encoder_ || next->t_ns <= t || t <= ticks_until_t_) return;
+    const float f = static_cast<float>(t - ticks_until_t_) / static_cast<float>(next->t_ns - ticks_until_t_);
+    const std::int32_t l = static_cast<std::int32_t>(f * static_cast<float>(next->ticks.left_ticks));
+    const std::int32_t r = static_cast<std::int32_t>(f * static_cast<float>(next->ticks.right_ticks));
+    pending_left_ += l;
+    pending_right_ += r;
+    next->ticks.left_ticks -= l;
+    next->ticks.right_ticks -= r;
+    ticks_until_t_ = t;
   }
 
   template <typename Clock>
@@ -186,6 +215,8 @@ class FilterLoop {
     }
     sink(LoopOutput{t, est_.estimate(), s, &counters_});
     sticky_ = 0;
+    published_any_ = true;
+    last_published_t_ = t;
   }
 
   Estimator& est_;
@@ -197,6 +228,9 @@ class FilterLoop {
   bool have_encoder_ = false, have_steering_ = false, have_scan_ = false;
   TimeNs newest_t_ = 0, applied_t_ = 0, last_predict_t_ = 0, next_predict_t_ = 0;
   TimeNs last_encoder_t_ = 0, last_steering_t_ = 0, last_scan_t_ = 0;
+  TimeNs ticks_until_t_ = 0;
+  TimeNs last_published_t_ = 0;
+  bool published_any_ = false;  // the encoder motion up to this time is in pending_ or already predicted
   std::int32_t pending_left_ = 0, pending_right_ = 0;
   float steering_rad_ = 0.0f;
 };

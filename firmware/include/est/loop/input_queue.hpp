@@ -72,6 +72,14 @@ class InputQueue {
     return {q.t_ns, s.layout, s.ranges};
   }
 
+  // The first queued input of `kind` after the front one (queue order), or null: the loop borrows part of the next
+  // encoder increment to bring the motion up to a scan's time.
+  QueuedInput* next_of_kind(InputKind kind) {
+    for (std::uint32_t i = 1; i < count_; ++i)
+      if (items_[i].kind == kind) return &items_[i];
+    return nullptr;
+  }
+
   void pop() {
     if (count_ == 0u) return;
     if (items_[0].kind == InputKind::scan) slots_[items_[0].scan_slot].used = false;
