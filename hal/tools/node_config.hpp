@@ -40,8 +40,10 @@ struct NodeConfig {
 
   // Robot.
   RobotModel model = RobotModel::diff_drive;
-  est::DiffDriveParams diff_drive{0.05f, 0.3f, 4096u, 0.05f, 0.001f, 0.01f};
-  est::BicycleParams bicycle{0.6f, 1.0471976f, 0.04f, 0.008f, 0.01f, 0.01f};
+  // Noise for 100 Hz predictions: per-step floors must cover what ticks do not see (slip, quantization) or the
+  // cloud collapses to millimetres and lags the truth (measured with sim_host simulate).
+  est::DiffDriveParams diff_drive{0.05f, 0.3f, 4096u, 0.05f, 0.003f, 0.01f};
+  est::BicycleParams bicycle{0.6f, 1.0471976f, 0.04f, 0.1f, 0.01f, 0.01f};
   float metres_per_tick = 0.001f;  // bicycle: front-wheel travel per tick of wheel 0
   est::Pose2 sensor_mount{};
 

@@ -9,6 +9,8 @@ int main(int argc, char** argv) {
   CLI::App app{"sim_host: host simulator and tools for the estimator firmware"};
   app.require_subcommand(1);
   sim::add_sample_motion_command(app);
+  sim::add_simulate_command(app);
+  sim::add_record_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

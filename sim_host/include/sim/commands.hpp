@@ -9,4 +9,8 @@ namespace sim {
 // sample-motion: posterior samples of the motion models (sim_host/src/sample_motion_command.cpp).
 void add_sample_motion_command(CLI::App& app);
 
+// simulate: the host simulation end to end; record: its sensor stream as an LCM log (src/simulate_command.cpp).
+void add_simulate_command(CLI::App& app);
+void add_record_command(CLI::App& app);
+
 }  // namespace sim

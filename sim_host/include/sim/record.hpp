@@ -1,0 +1,27 @@
+#pragma once
+// `record`: a scenario's sensor stream and ground truth as an LCM log file (lcm::LogFile), in arrival order, on the
+// LCM backend's default channels (hal/lcm/lcm_backend.hpp): EST_WHEEL_TICKS (est_lcm::encoder_ticks_t, 32-bit
+// counters), EST_STEERING, EST_RANGE_SCAN and EST_GROUND_TRUTH (every 10 ms step). Event times are the arrival times
+// in microseconds of the robot's clock, so a replay that paces by event time sees the same late, stale and
+// out-of-order deliveries the in-process simulation sees. Host only (may throw).
+#include <cstdint>
+#include <map>
+#include <string>
+
+#include "sim/sensor_stream.hpp"
+
+namespace sim {
+
+struct RecordSummary {
+  std::map<std::string, std::uint64_t> messages;  // by channel
+  std::uint64_t events = 0;
+};
+
+RecordSummary record_lcm_log(const SensorStream& stream, const std::string& path);
+
+// The sidecar <log>.json: the scenario, the message counts per channel, the injected faults and the reject counts
+// a HAL must show after replaying the log (the same keys as metrics.json), and estimator_node options that match.
+std::string record_sidecar_json(const SensorStream& stream, const ScenarioConfig& scenario, const SimWorld& world,
+                                const RecordSummary& summary, const std::string& log_path);
+
+}  // namespace sim

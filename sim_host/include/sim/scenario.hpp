@@ -1,0 +1,80 @@
+#pragma once
+// A host simulation scenario: the world (the synthetic office or a ROS map), the robot and its route, the sensors
+// with their noise, and the faults injected into their streams. `simulate` and `record` share it, so a recorded log
+// carries exactly the stream an in-process run consumes. Host only (may throw).
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "est/geometry/pose2.hpp"
+#include "est/map/distance_transform.hpp"
+#include "est/map/occupancy_grid.hpp"
+#include "world/range_sensor.hpp"
+#include "world/route.hpp"
+
+namespace sim {
+
+enum class RobotKind { bicycle, diff_drive };
+enum class StartKind { global, tracking };
+
+// Injected faults by stream and class, e.g. {"scan.stale", 2}. Keys: <stream>.<class> with stream in wheel_ticks,
+// steering, scan; fault_catalogue() lists every key with what it does and how the HAL or the loop must count it.
+using FaultCounts = std::map<std::string, int>;
+
+struct FaultClassInfo {
+  std::string key;
+  std::string what;      // what is done to the sample
+  std::string expected;  // the counter that must move by one per injection ("-" when none must)
+};
+const std::vector<FaultClassInfo>& fault_catalogue();
+// The plan of the default 60 s scenario: 58 faults for the bicycle (41 without a steering sensor), ~1 per second.
+FaultCounts default_fault_counts(RobotKind robot);
+
+struct ScenarioConfig {
+  // World.
+  std::string map_yaml;                 // empty: the synthetic office (sim_host/maps/office_map.hpp)
+  std::vector<est::sim::Waypoint> route;  // empty: the world's own route (required with map_yaml)
+  // Robot.
+  RobotKind robot = RobotKind::bicycle;
+  double speed_mps = 0.8;
+  double duration_s = 60.0;
+  std::size_t start_segment = 0;        // the run starts at the beginning of this route segment
+  std::uint64_t seed = 1;
+  // Sensors (rates in Hz; they must divide the 100 Hz simulation step).
+  int encoder_hz = 100;
+  int steering_hz = 50;
+  int scan_hz = 10;
+  int beams = 360;
+  double fov_deg = 360.0;
+  double range_max_m = 12.0;
+  est::sim::RangeNoise range_noise{0.02f, 0.01f, 0.01f};
+  double encoder_scale_error = 0.01;    // the odometry counts 1 % more than the wheel turns (radius error)
+  double encoder_noise = 0.02;          // relative noise of each step's counted travel
+  int slip_events = 2;                  // wheel-spin episodes: the encoder counts slip_factor more
+  double slip_duration_s = 0.5;
+  double slip_factor = 0.3;
+  double steering_sigma_deg = 0.5;
+  double steering_bias_deg = 0.5;
+  // Faults.
+  FaultCounts faults;                   // empty: none
+  double kidnap_at_s = 30.0;            // < 0: no kidnapping
+  double burst_at_s = 45.0;             // a bus outage: every stream silent for burst_ms; < 0: none
+  double burst_ms = 400.0;
+};
+
+// The world of a run: grid, distance transform and route, owned here.
+struct SimWorld {
+  std::string name;
+  std::shared_ptr<void> storage;  // the grid and transform of a loaded map (the office's are static)
+  est::OccupancyGrid grid;
+  est::DistanceTransform edt;
+  std::unique_ptr<est::sim::Route> route;
+};
+// The office (shared, built once) or the ROS map of the config; throws on a bad map or route.
+SimWorld load_world(const ScenarioConfig& config);
+
+const char* to_string(RobotKind r);
+
+}  // namespace sim

@@ -1,0 +1,94 @@
+#pragma once
+// The sensor stream of a scenario, as a robot's buses would deliver it: raw HAL samples (encoder counters that
+// wrap, steering angles, range scans), each stamped by the robot's clock and delivered at an arrival time, with the
+// scenario's faults injected, plus the ground truth at every 10 ms simulation step. Generated up front and
+// deterministically from the seed; consumed by `simulate` (through the HAL into the filter loop) and by `record`
+// (into an LCM log).
+//
+// Timing: the simulation steps at 10 ms from t0 = 1 s. A sample's stamp is the step's time; it arrives after its
+// nominal latency (encoders and steering 1 ms, scans 12 ms: within the loop's 20 ms reorder window).
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "est/geometry/pose2.hpp"
+#include "est/motion/bicycle_model.hpp"
+#include "est/motion/diff_drive_model.hpp"
+#include "hal/range_scan.hpp"
+#include "hal/steering.hpp"
+#include "hal/time.hpp"
+#include "hal/validated_inputs.hpp"
+#include "hal/wheel_ticks.hpp"
+#include "sim/scenario.hpp"
+
+namespace sim {
+
+inline constexpr hal::TimeNs kSimStepNs = 10 * hal::kNsPerMs;
+inline constexpr hal::TimeNs kSimStartNs = hal::kNsPerS;
+inline constexpr unsigned kEncoderCounterBits = 32;  // as est_lcm::encoder_ticks_t and the LCM backend's default
+
+enum class StreamKind : std::uint8_t { wheel_ticks, steering, scan };
+const char* to_string(StreamKind k);
+
+struct StreamEvent {
+  hal::TimeNs arrival_ns = 0;
+  StreamKind kind = StreamKind::wheel_ticks;
+  hal::WheelTicks ticks;
+  hal::SteeringSample steering;
+  std::size_t scan = 0;  // index into SensorStream::scans
+  int fault = -1;        // index into SensorStream::faults when this delivery carries an injected fault
+};
+
+struct ScanRecord {
+  hal::TimeNs stamp_ns = 0;
+  hal::ScanGeometry geometry;
+  std::vector<float> ranges;
+  hal::RangeScanView view() const { return {stamp_ns, geometry, ranges.data(), ranges.size()}; }
+};
+
+struct TruthSample {
+  hal::TimeNs t_ns = 0;
+  est::Pose2 pose;      // the robot's reference point (front wheel of the bicycle, axle midpoint of the diff drive)
+  float v_mps = 0.0f;   // of the reference point, over the step that starts here
+  float omega_rps = 0.0f;
+};
+
+// One injected fault (or event): where, what, and which counter must show it.
+struct InjectedFault {
+  hal::TimeNs t_ns = 0;   // stamp of the affected sample (start of a burst or slip)
+  std::string key;        // <stream>.<class>, or "event.kidnap", "event.burst", "event.slip"
+  std::string expected;   // e.g. "hal.scan.stale", "loop.too_old", "-"
+  int amount = 1;         // what that counter must move by (beams for scan.nan_beams)
+  std::string also;       // a second counter that must move (a NaN scan's beams), empty when none
+  int also_amount = 0;
+};
+
+struct SensorStream {
+  std::vector<StreamEvent> events;  // in arrival order (ties: generation order)
+  std::vector<ScanRecord> scans;
+  std::vector<TruthSample> truth;   // every 10 ms step, t = kSimStartNs + k * kSimStepNs
+  std::vector<InjectedFault> faults;
+  hal::InputLimits limits;          // what the HAL gate of this robot is configured with
+  hal::TimeNs kidnap_ns = -1;       // -1: none
+  hal::TimeNs end_ns = 0;
+  est::Pose2 mount;                 // rangefinder in the robot frame
+  double metres_per_tick = 0.0;     // encoder resolution (the bicycle's traction wheel / each diff-drive wheel)
+  std::size_t route_waypoints = 0;
+
+  const TruthSample& truth_at(hal::TimeNs t) const;  // the step at or before t (clamped to the run)
+  // Expected counts by counter name (sums of InjectedFault::amount; "-" left out).
+  std::map<std::string, int> expected_counts() const;
+};
+
+// Robot parameters of the scenarios: the truth's noise, and what the filter is told (larger).
+struct RobotModels {
+  est::BicycleParams bicycle_truth, bicycle_filter;
+  est::DiffDriveParams diff_truth, diff_filter;
+};
+RobotModels robot_models();
+
+// Throws std::invalid_argument on a bad configuration (rates, unknown fault keys, faults that do not fit the run).
+SensorStream generate_stream(const ScenarioConfig& config, const SimWorld& world);
+
+}  // namespace sim

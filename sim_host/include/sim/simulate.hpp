@@ -1,0 +1,108 @@
+#pragma once
+// The host simulation: a scenario's sensor stream goes through the HAL gate (hal::ValidatedInputs, what a rig runs)
+// and the HAL-to-loop adapter (hal::LoopPort) into the firmware's FilterLoop with the MCL estimator, in process; every
+// estimate is compared with the ground truth. Metrics: accuracy once localized, time to converge from a global start
+// and to recover from the kidnapping, and every rejected input by reason next to the faults that were injected.
+// Host only (may throw).
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "est/filter/augmented_mcl.hpp"
+#include "est/geometry/pose2.hpp"
+#include "est/loop/status.hpp"
+#include "hal/fault.hpp"
+#include "hal/loop_port.hpp"
+#include "hal/range_scan_validator.hpp"
+#include "sim/scenario.hpp"
+#include "sim/sensor_stream.hpp"
+
+namespace sim {
+
+struct FilterOptions {
+  StartKind start = StartKind::global;
+  std::uint32_t particles = 20000;  // initial count (and the capacity's share when KLD adapts it)
+  bool kld = true;
+  std::uint32_t kld_min = 500;
+  std::int32_t beam_stride = 6;     // every 6th beam of 360: 60 per scan
+  float clearance_m = 0.2f;         // free-space poses this far from walls (global start, injection)
+  float alpha_slow = 0.02f;         // augmented MCL's averages of the scan likelihood (Thrun table 8.3), per scan
+  float alpha_fast = 0.3f;
+  float max_injection = 0.5f;       // at most this share of a resampled set is injected
+  // "Localized": position within converge_pos_m and heading within converge_heading_deg for hold_s.
+  double converge_pos_m = 0.5;
+  double converge_heading_deg = 10.0;
+  double hold_s = 2.0;
+};
+
+// One estimate of the loop with the truth at its time.
+struct OutputRow {
+  hal::TimeNs t_ns = 0;
+  est::Pose2 truth, estimate;
+  float position_error_m = 0.0f;
+  float heading_error_rad = 0.0f;
+  float sigma_x_m = 0.0f, sigma_y_m = 0.0f, sigma_theta_rad = 0.0f;
+  std::uint32_t particles = 0;
+  std::uint32_t status = 0;  // hal::status bits, without kDeadlineOverrun (wall-clock dependent)
+  std::uint32_t rejected_inputs = 0;
+};
+
+struct ParticleSnapshot {
+  hal::TimeNs t_ns = 0;
+  std::string label;
+  std::vector<est::Pose2> particles;  // at most 4000 (every n-th)
+  std::uint32_t total = 0;
+  est::Pose2 truth, estimate;
+};
+
+// A phase of the run: from the start or the kidnapping to the next event or the end.
+struct PhaseMetrics {
+  std::string name;  // "global localization", "tracking", "kidnap recovery"
+  double start_s = 0.0, end_s = 0.0;
+  bool localized = false;
+  double time_to_localize_s = -1.0;  // from the phase start; -1 when never
+};
+
+struct SimMetrics {
+  std::vector<PhaseMetrics> phases;
+  // Over the localized part of every phase.
+  double rmse_position_m = -1.0, rmse_heading_deg = -1.0;
+  double max_position_error_m = -1.0, max_heading_error_deg = -1.0;
+  double localized_time_s = 0.0;
+  double outside_bounds_s = 0.0;  // localized time spent outside the bounds after all (transients)
+  // Over every output.
+  double rmse_position_all_m = -1.0;
+};
+
+struct SimResult {
+  SensorStream stream;
+  std::vector<OutputRow> rows;
+  std::vector<ParticleSnapshot> snapshots;
+  hal::FaultCounters wheel_faults, steering_faults, scan_faults;
+  hal::BeamCounters beams;
+  est::loop::LoopCounters loop;
+  hal::LoopPortRejectCounters port_rejects;
+  est::MclCounters mcl;
+  std::uint32_t nonfinite_estimates = 0;
+  SimMetrics metrics;
+  double wall_s = 0.0;
+
+  // Reject counters by the names InjectedFault::expected uses (hal.<stream>.<reason>, hal.scan.beams_nan,
+  // loop.too_old, loop.queue_full, loop.rejected, port.<reason>); zeros left out.
+  std::map<std::string, int> observed_counts() const;
+};
+
+SimResult run_simulation(const ScenarioConfig& scenario, const FilterOptions& filter, const SimWorld& world);
+
+// The files of a run in `dir` (created): trajectory.csv, faults.csv, metrics.json and, with plots, trajectory.png,
+// errors.png, particles.png (gnuplot scripts and their data beside them). Returns the paths written.
+std::vector<std::string> write_simulation_outputs(const SimResult& result, const ScenarioConfig& scenario,
+                                                  const FilterOptions& filter, const SimWorld& world,
+                                                  const std::string& dir, bool plots);
+
+// The metrics JSON as text (what metrics.json holds).
+std::string metrics_json(const SimResult& result, const ScenarioConfig& scenario, const FilterOptions& filter,
+                         const SimWorld& world);
+
+}  // namespace sim

@@ -1,0 +1,101 @@
+// Scenario pieces shared by simulate and record: the fault catalogue, the default plan, the world.
+#include "sim/scenario.hpp"
+
+#include <memory>
+#include <stdexcept>
+
+#include "est/map/distance_transform.hpp"
+#include "est/map/occupancy_grid.hpp"
+#include "maps/ros_map_loader.hpp"
+#include "world/office_world.hpp"
+
+namespace sim {
+
+const char* to_string(RobotKind r) { return r == RobotKind::bicycle ? "bicycle" : "diff-drive"; }
+
+const std::vector<FaultClassInfo>& fault_catalogue() {
+  static const std::vector<FaultClassInfo> c = {
+      {"wheel_ticks.dropped", "the sample is lost on the bus", "-"},
+      {"wheel_ticks.duplicate", "the sample is delivered twice", "hal.wheel_ticks.duplicate"},
+      {"wheel_ticks.stale", "delivered 300 ms after its stamp", "hal.wheel_ticks.stale"},
+      {"wheel_ticks.late", "delivered 60 ms late, after newer samples of its kind", "hal.wheel_ticks.time_backwards"},
+      {"wheel_ticks.time_backwards", "stamped 1.5 periods before the previous sample", "hal.wheel_ticks.time_backwards"},
+      {"wheel_ticks.from_future", "stamped 1 s ahead of the clock", "hal.wheel_ticks.from_future"},
+      {"wheel_ticks.counter_jump", "the counters restart from garbage (encoder reset)", "hal.wheel_ticks.out_of_range"},
+      {"steering.dropped", "the sample is lost on the bus", "-"},
+      {"steering.duplicate", "the sample is delivered twice", "hal.steering.duplicate"},
+      {"steering.stale", "delivered 300 ms after its stamp", "hal.steering.stale"},
+      {"steering.late", "delivered 60 ms late, after newer samples of its kind", "hal.steering.time_backwards"},
+      {"steering.reordered", "delivered 15 ms late: after newer encoder samples, within the reorder window", "-"},
+      {"steering.time_backwards", "stamped 1.5 periods before the previous sample", "hal.steering.time_backwards"},
+      {"steering.from_future", "stamped 1 s ahead of the clock", "hal.steering.from_future"},
+      {"steering.nan", "the angle is NaN", "hal.steering.not_finite"},
+      {"steering.spike", "the angle reads 2.5 rad, beyond the mechanical stop", "hal.steering.out_of_range"},
+      {"scan.dropped", "the scan is lost", "-"},
+      {"scan.duplicate", "the scan is delivered twice", "hal.scan.duplicate"},
+      {"scan.stale", "delivered 300 ms after its stamp", "hal.scan.stale"},
+      {"scan.late", "delivered 60 ms late: beyond the loop's 20 ms reorder window", "loop.too_old"},
+      {"scan.reordered", "delivered 18 ms late: after newer encoder samples, within the reorder window", "-"},
+      {"scan.time_backwards", "stamped 1.5 periods before the previous scan", "hal.scan.time_backwards"},
+      {"scan.from_future", "stamped 1 s ahead of the clock", "hal.scan.from_future"},
+      {"scan.nan_scan", "every reading is NaN", "hal.scan.too_few_valid_beams"},
+      {"scan.nan_beams", "10 % of the readings are NaN (the scan stays usable)", "hal.scan.beams_nan"},
+  };
+  return c;
+}
+
+FaultCounts default_fault_counts(RobotKind robot) {
+  FaultCounts f = {
+      {"wheel_ticks.dropped", 5}, {"wheel_ticks.duplicate", 3}, {"wheel_ticks.stale", 2},
+      {"wheel_ticks.late", 2},    {"wheel_ticks.time_backwards", 2}, {"wheel_ticks.from_future", 1},
+      {"wheel_ticks.counter_jump", 1},
+      {"scan.dropped", 5},        {"scan.duplicate", 2},        {"scan.stale", 2},
+      {"scan.late", 3},           {"scan.reordered", 3},        {"scan.time_backwards", 2},
+      {"scan.from_future", 1},    {"scan.nan_scan", 2},         {"scan.nan_beams", 5},
+  };
+  if (robot == RobotKind::bicycle) {
+    const FaultCounts s = {{"steering.dropped", 3},  {"steering.duplicate", 2},      {"steering.stale", 1},
+                           {"steering.late", 1},     {"steering.reordered", 2},      {"steering.time_backwards", 2},
+                           {"steering.from_future", 1}, {"steering.nan", 3},         {"steering.spike", 2}};
+    f.insert(s.begin(), s.end());
+  }
+  return f;
+}
+
+namespace {
+
+// The largest map a run loads (4 MB of grid, 8 MB of transform).
+constexpr std::int32_t kMaxSide = 2048;
+
+struct LoadedMap {
+  est::OccupancyGridStorage<kMaxSide, kMaxSide> grid;
+  est::DistanceTransformStorage<kMaxSide, kMaxSide> edt;
+};
+
+}  // namespace
+
+SimWorld load_world(const ScenarioConfig& config) {
+  SimWorld w;
+  if (config.map_yaml.empty()) {
+    const est::sim::OfficeWorld& office = est::sim::office_world();
+    w.name = "office";
+    w.grid = office.grid();
+    w.edt = office.edt();
+    w.route = std::make_unique<est::sim::Route>(config.route.empty() ? office.route : est::sim::Route(config.route));
+    return w;
+  }
+  if (config.route.size() < 2)
+    throw std::invalid_argument("--route is required with --map (at least two waypoints x,y in the map frame)");
+  auto m = std::make_shared<LoadedMap>();
+  est::sim::load_ros_map(config.map_yaml, m->grid);
+  if (m->edt.build(m->grid.grid()) != est::MapStatus::ok)
+    throw std::runtime_error(config.map_yaml + ": the distance transform could not be built");
+  w.name = config.map_yaml;
+  w.grid = m->grid.grid();
+  w.edt = m->edt.view();
+  w.storage = m;
+  w.route = std::make_unique<est::sim::Route>(config.route);
+  return w;
+}
+
+}  // namespace sim

@@ -1,0 +1,460 @@
+// The sensor stream of a scenario: truth, raw samples with their noise, injected faults, arrival order.
+#include "sim/sensor_stream.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <set>
+#include <stdexcept>
+
+#include "est/loop/filter_loop.hpp"
+#include "est/random/samplers.hpp"
+#include "est/random/xoshiro128.hpp"
+#include "world/robots.hpp"
+
+namespace sim {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr hal::TimeNs kMs = hal::kNsPerMs;
+constexpr float kSimStepS = 0.01f;
+// Nominal delivery latency after the stamp (a scan is stamped at its start and sent after the sweep's processing).
+constexpr hal::TimeNs kLatencyWheels = 1 * kMs;
+constexpr hal::TimeNs kLatencySteering = 1 * kMs;
+constexpr hal::TimeNs kLatencyScan = 12 * kMs;
+constexpr hal::TimeNs kStaleDelay = 300 * kMs;
+constexpr hal::TimeNs kLateDelay = 60 * kMs;
+constexpr hal::TimeNs kFutureOffset = 1000 * kMs;
+constexpr hal::TimeNs kDuplicateGap = kMs / 5;
+constexpr std::uint32_t kCounterStart = 0xffffc000u;  // 16384 ticks before the 32-bit counters wrap
+constexpr int kFaultSpacing = 4;                      // samples between two faults of one stream
+constexpr float kSteeringSpikeRad = 2.5f;
+constexpr float kNanBeamFraction = 0.1f;
+
+float wrap(float a) { return std::remainder(a, 6.28318530717958647692f); }
+
+struct StreamSpec {
+  StreamKind kind;
+  const char* name;
+  hal::TimeNs period;
+  hal::TimeNs latency;
+  int count;
+};
+
+using Schedule = std::map<int, std::string>;  // sample index -> fault class
+
+struct Interval {
+  hal::TimeNs from, to;
+};
+
+// Sample indices for the faults of one stream: at least kFaultSpacing apart, clear of the first and last second and
+// of the excluded intervals (the burst), each drawn uniformly from the slots still free. Fails only when none is.
+Schedule place_faults(const StreamSpec& s, const FaultCounts& counts, const std::vector<Interval>& exclude,
+                      est::Rng& rng) {
+  Schedule out;
+  const int margin = std::max(kFaultSpacing, static_cast<int>(hal::kNsPerS / s.period));
+  const std::string prefix = std::string(s.name) + ".";
+  std::vector<int> free;
+  for (const auto& [key, n] : counts) {
+    if (key.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string cls = key.substr(prefix.size());
+    for (int i = 0; i < n; ++i) {
+      free.clear();
+      for (int j = margin; j < s.count - margin; ++j) {
+        const hal::TimeNs t = kSimStartNs + static_cast<hal::TimeNs>(j) * s.period;
+        bool ok = true;
+        for (const Interval& x : exclude) ok = ok && !(t >= x.from && t < x.to);
+        const auto near = out.lower_bound(j - kFaultSpacing + 1);
+        if (near != out.end() && near->first < j + kFaultSpacing) ok = false;
+        if (ok) free.push_back(j);
+      }
+      if (free.empty())
+        throw std::invalid_argument("cannot place " + std::to_string(n) + " '" + key + "' faults (with the other " +
+                                    s.name + " faults) in this run: lengthen --duration or lower the counts");
+      out[free[rng.below(static_cast<std::uint32_t>(free.size()))]] = cls;
+    }
+  }
+  return out;
+}
+
+// What must count an injected timing fault, from the timing rules of the HAL (hal/sample_timing.hpp) and the loop.
+std::string expect_timing(const StreamSpec& s, const std::string& cls, hal::TimeNs delay, hal::TimeNs stamp_shift,
+                          const hal::TimingLimits& limits, hal::TimeNs encoder_period) {
+  const std::string hal_prefix = std::string("hal.") + to_string(s.kind) + ".";
+  const hal::TimeNs age = delay - stamp_shift;  // arrival - stamp
+  if (age > limits.max_age_ns) return hal_prefix + "stale";
+  if (-age > limits.max_future_ns) return hal_prefix + "from_future";
+  if (stamp_shift < 0) return hal_prefix + "time_backwards";  // shifted past the previous (clean) sample
+  if (delay > s.period + s.latency) return hal_prefix + "time_backwards";  // newer samples of its kind came first
+  const hal::TimeNs window = est::loop::LoopTiming{}.reorder_window_ns;
+  if (delay <= window) return "-";
+  if (delay >= window + kLatencyWheels + 3 * encoder_period) return "loop.too_old";
+  throw std::invalid_argument(s.name + std::string(".") + cls +
+                              ": with these sensor rates the delay neither stays within the reorder window nor "
+                              "clearly exceeds it; raise --encoder-hz");
+}
+
+std::size_t nearest_segment(const est::sim::Route& r, const est::Pose2& p) {
+  std::size_t best = 0;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    const double ax = r[i].x, ay = r[i].y, bx = r[i + 1].x, by = r[i + 1].y;
+    const double vx = bx - ax, vy = by - ay, l2 = vx * vx + vy * vy;
+    const double px = p.x, py = p.y;
+    double f = l2 > 0.0 ? ((px - ax) * vx + (py - ay) * vy) / l2 : 0.0;
+    f = std::clamp(f, 0.0, 1.0);
+    const double d = std::hypot(ax + f * vx - px, ay + f * vy - py);
+    if (d < best_d) {
+      best_d = d;
+      best = i;
+    }
+  }
+  return best;
+}
+
+std::uint32_t counter_value(std::uint32_t offset, double counted) {
+  const auto n = static_cast<std::int64_t>(std::floor(counted));
+  return static_cast<std::uint32_t>(static_cast<std::uint64_t>(offset) + static_cast<std::uint64_t>(n));
+}
+
+}  // namespace
+
+const char* to_string(StreamKind k) {
+  switch (k) {
+    case StreamKind::wheel_ticks: return "wheel_ticks";
+    case StreamKind::steering: return "steering";
+    case StreamKind::scan: return "scan";
+  }
+  return "unknown";
+}
+
+RobotModels robot_models() {
+  RobotModels m;
+  const float deg = static_cast<float>(kPi / 180.0);
+  // Bicycle: 0.6 m frame, stop at 60 deg. Truth noise per 10 ms step; the filter is told more (estimator_node's
+  // defaults), which also covers the encoder's scale error, noise and slip.
+  m.bicycle_truth = {0.6f, 60.0f * deg, 0.01f, 0.0005f, 0.001f, kSimStepS};
+  m.bicycle_filter = {0.6f, 60.0f * deg, 0.05f, 0.1f, 0.01f, kSimStepS};
+  m.diff_truth = {0.05f, 0.3f, 4096u, 0.02f, 0.0002f, 0.001f};
+  m.diff_filter = {0.05f, 0.3f, 4096u, 0.1f, 0.003f, 0.01f};
+  return m;
+}
+
+const TruthSample& SensorStream::truth_at(hal::TimeNs t) const {
+  if (truth.empty()) throw std::logic_error("truth_at: empty stream");
+  const hal::TimeNs k = (t - kSimStartNs) / kSimStepNs;
+  const auto i = static_cast<std::size_t>(std::clamp<hal::TimeNs>(k, 0, static_cast<hal::TimeNs>(truth.size()) - 1));
+  return truth[i];
+}
+
+std::map<std::string, int> SensorStream::expected_counts() const {
+  std::map<std::string, int> out;
+  for (const InjectedFault& f : faults) {
+    if (f.expected != "-") out[f.expected] += f.amount;
+    if (!f.also.empty()) out[f.also] += f.also_amount;
+  }
+  return out;
+}
+
+SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
+  // Configuration checks.
+  if (!(c.duration_s > 0.0 && c.duration_s <= 3600.0)) throw std::invalid_argument("--duration must be in (0, 3600] s");
+  if (!(c.speed_mps > 0.0 && c.speed_mps <= 3.0)) throw std::invalid_argument("--speed must be in (0, 3] m/s");
+  for (int hz : {c.encoder_hz, c.steering_hz, c.scan_hz})
+    if (hz <= 0 || 100 % hz != 0) throw std::invalid_argument("sensor rates must divide 100 Hz (1, 2, 4, 5, 10, 20, 25, 50, 100)");
+  if (c.beams < 10 || c.beams > 1440) throw std::invalid_argument("--beams must be in [10, 1440]");
+  if (!(c.fov_deg > 0.0 && c.fov_deg <= 360.0)) throw std::invalid_argument("--fov-deg must be in (0, 360]");
+  if (!(c.range_max_m > 0.5 && c.range_max_m <= 100.0)) throw std::invalid_argument("--range-max must be in (0.5, 100] m");
+  std::set<std::string> known;
+  for (const FaultClassInfo& f : fault_catalogue()) known.insert(f.key);
+  for (const auto& [key, n] : c.faults) {
+    if (!known.count(key)) throw std::invalid_argument("unknown fault class '" + key + "' (sim_host simulate --list-faults)");
+    if (n < 0) throw std::invalid_argument("fault count of '" + key + "' is negative");
+    if (n > 0 && c.robot == RobotKind::diff_drive && key.rfind("steering.", 0) == 0)
+      throw std::invalid_argument("'" + key + "': the differential drive has no steering sensor");
+  }
+
+  const RobotModels models = robot_models();
+  const bool bicycle = c.robot == RobotKind::bicycle;
+  const est::sim::Route& route = *world.route;
+  const int steps = static_cast<int>(std::lround(c.duration_s / static_cast<double>(kSimStepS)));
+  const int enc_div = 100 / c.encoder_hz, steer_div = 100 / c.steering_hz, scan_div = 100 / c.scan_hz;
+
+  SensorStream s;
+  s.route_waypoints = route.size();
+  s.end_ns = kSimStartNs + static_cast<hal::TimeNs>(steps) * kSimStepNs;
+  s.mount = {0.0f, 0.0f, 0.0f};
+  s.metres_per_tick = bicycle ? 0.001 : static_cast<double>(est::diff_drive_m_per_tick(models.diff_truth));
+  const double wheel_speed_max =
+      bicycle ? c.speed_mps : c.speed_mps + 1.5 * 0.5 * static_cast<double>(models.diff_truth.track_width);
+  s.limits.wheels.wheel_count = 2;
+  s.limits.wheels.counter_bits = kEncoderCounterBits;
+  s.limits.wheels.max_ticks_per_s = static_cast<std::uint32_t>(std::ceil(3.0 * wheel_speed_max / s.metres_per_tick));
+  s.limits.steering.max_angle_rad = models.bicycle_truth.steer_max;
+  s.limits.scan.max_beams = static_cast<std::size_t>(std::max(1081, c.beams));
+
+  const StreamSpec wheels{StreamKind::wheel_ticks, "wheel_ticks", enc_div * kSimStepNs, kLatencyWheels,
+                          steps / enc_div};
+  const StreamSpec steering{StreamKind::steering, "steering", steer_div * kSimStepNs, kLatencySteering,
+                            bicycle ? steps / steer_div : 0};
+  const StreamSpec scans{StreamKind::scan, "scan", scan_div * kSimStepNs, kLatencyScan, steps / scan_div};
+
+  est::Rng truth_rng = est::Rng::stream(c.seed, 1);
+  est::Rng range_rng = est::Rng::stream(c.seed, 2);
+  est::Rng odo_rng = est::Rng::stream(c.seed, 3);
+  est::Rng fault_rng = est::Rng::stream(c.seed, 4);
+
+  // Events: the burst (bus outage), slips, the kidnapping.
+  std::vector<Interval> burst;
+  if (c.burst_at_s >= 0.0 && c.burst_at_s < c.duration_s && c.burst_ms > 0.0) {
+    const hal::TimeNs b0 = kSimStartNs + static_cast<hal::TimeNs>(std::llround(c.burst_at_s * 1e9));
+    burst.push_back({b0, b0 + static_cast<hal::TimeNs>(std::llround(c.burst_ms * 1e6))});
+    s.faults.push_back({b0, "event.burst", "-", 1, "", 0});
+  }
+  std::vector<Interval> exclude;
+  for (const Interval& b : burst) exclude.push_back({b.from - 500 * kMs, b.to + 800 * kMs});
+  const Schedule wheel_faults = place_faults(wheels, c.faults, exclude, fault_rng);
+  const Schedule steer_faults = place_faults(steering, c.faults, exclude, fault_rng);
+  const Schedule scan_faults = place_faults(scans, c.faults, exclude, fault_rng);
+
+  std::vector<Interval> slips;
+  for (int i = 0; i < c.slip_events && c.duration_s > 4.0; ++i) {
+    for (int tries = 0; tries < 200; ++tries) {
+      const double at = 2.0 + static_cast<double>(fault_rng.uniform()) * (c.duration_s - 3.0 - c.slip_duration_s);
+      const hal::TimeNs a = kSimStartNs + static_cast<hal::TimeNs>(std::llround(at * 1e9));
+      const Interval iv{a, a + static_cast<hal::TimeNs>(std::llround(c.slip_duration_s * 1e9))};
+      bool clear = true;
+      for (const Interval& o : slips) clear = clear && (iv.to + hal::kNsPerS < o.from || o.to + hal::kNsPerS < iv.from);
+      if (clear) {
+        slips.push_back(iv);
+        s.faults.push_back({a, "event.slip", "-", 1, "", 0});
+        break;
+      }
+    }
+  }
+  const int kidnap_step =
+      c.kidnap_at_s >= 0.0 && c.kidnap_at_s < c.duration_s ? static_cast<int>(std::lround(c.kidnap_at_s / static_cast<double>(kSimStepS))) : -1;
+
+  const est::Pose2 start = route.pose_on_segment(c.start_segment % route.size(), 0.0f);
+  std::unique_ptr<est::sim::BicycleRobot> bike;
+  std::unique_ptr<est::sim::DiffDriveRobot> diff;
+  if (bicycle)
+    bike = std::make_unique<est::sim::BicycleRobot>(route, start, c.start_segment + 1, models.bicycle_truth,
+                                                    static_cast<float>(c.speed_mps));
+  else
+    diff = std::make_unique<est::sim::DiffDriveRobot>(route, start, c.start_segment + 1, models.diff_truth,
+                                                      static_cast<float>(c.speed_mps), kSimStepS);
+  const auto pose = [&]() { return bicycle ? bike->pose() : diff->pose(); };
+
+  // The rangefinder.
+  const float fov = static_cast<float>(c.fov_deg * kPi / 180.0);
+  const bool full_turn = c.fov_deg >= 360.0;
+  est::ScanLayout layout;
+  layout.angle_min = full_turn ? -static_cast<float>(kPi) : -0.5f * fov;
+  layout.angle_increment = full_turn ? fov / static_cast<float>(c.beams) : fov / static_cast<float>(c.beams - 1);
+  layout.count = c.beams;
+  layout.range_min = 0.05f;
+  layout.range_max = static_cast<float>(c.range_max_m);
+  hal::ScanGeometry geometry{layout.angle_min, layout.angle_increment, layout.range_min, layout.range_max,
+                             1.0f / static_cast<float>(c.scan_hz)};
+  std::vector<float> ranges;
+
+  const auto in_any = [](const std::vector<Interval>& v, hal::TimeNs t) {
+    for (const Interval& x : v)
+      if (t >= x.from && t < x.to) return true;
+    return false;
+  };
+  const hal::TimingLimits& timing = s.limits.wheels.timing;
+
+  // Emits one sample of `spec` (index j, stamp t) with the fault scheduled for it, if any. `make` builds the event
+  // for a stamp; `mutate` applies a content fault to it and returns the expected counter and amount.
+  std::vector<std::pair<StreamEvent, std::size_t>> events;  // with generation order for a stable sort
+  const auto push = [&](StreamEvent e) { events.push_back({e, events.size()}); };
+  const auto emit = [&](const StreamSpec& spec, const Schedule& sched, int j, hal::TimeNs t, auto make) {
+    const auto it = sched.find(j);
+    if (it == sched.end()) {
+      StreamEvent e = make(t);
+      e.arrival_ns = t + spec.latency;
+      push(e);
+      return;
+    }
+    const std::string& cls = it->second;
+    const std::string key = std::string(spec.name) + "." + cls;
+    const std::string hal_prefix = std::string("hal.") + to_string(spec.kind) + ".";
+    InjectedFault f{t, key, "-", 1, "", 0};
+    hal::TimeNs delay = spec.latency, shift = 0;
+    bool deliver = true;
+    if (cls == "dropped") {
+      deliver = false;
+    } else if (cls == "duplicate") {
+      f.expected = hal_prefix + "duplicate";
+    } else if (cls == "stale") {
+      delay = kStaleDelay;
+    } else if (cls == "late") {
+      delay = kLateDelay;
+    } else if (cls == "reordered") {
+      delay = spec.kind == StreamKind::scan ? 18 * kMs : 15 * kMs;
+    } else if (cls == "time_backwards") {
+      shift = -(3 * spec.period) / 2;
+    } else if (cls == "from_future") {
+      shift = kFutureOffset;
+    } else if (cls == "nan") {
+      f.expected = hal_prefix + "not_finite";
+    } else if (cls == "spike") {
+      f.expected = hal_prefix + "out_of_range";
+    } else if (cls == "counter_jump") {
+      f.expected = hal_prefix + "out_of_range";
+    } else if (cls == "nan_scan") {
+      f.expected = hal_prefix + "too_few_valid_beams";
+    } else if (cls == "nan_beams") {
+      f.expected = hal_prefix + "beams_nan";
+    }
+    if (cls == "stale" || cls == "late" || cls == "reordered" || cls == "time_backwards" || cls == "from_future")
+      f.expected = expect_timing(spec, cls, delay, shift, timing, wheels.period);
+    if (deliver) {
+      StreamEvent e = make(t + shift);
+      e.arrival_ns = t + delay;
+      if (cls == "nan") e.steering.angle_rad = std::numeric_limits<float>::quiet_NaN();
+      if (cls == "spike") e.steering.angle_rad = kSteeringSpikeRad;
+      if (cls == "nan_scan" || cls == "nan_beams") {
+        ScanRecord copy = s.scans[e.scan];
+        int n = 0;
+        for (float& r : copy.ranges) {
+          if (cls == "nan_scan" || fault_rng.uniform() < kNanBeamFraction) {
+            r = std::numeric_limits<float>::quiet_NaN();
+            ++n;
+          }
+        }
+        if (cls == "nan_beams") f.amount = n;
+        if (cls == "nan_scan") {
+          f.also = hal_prefix + "beams_nan";  // the validator counts the beams of a scan it then rejects
+          f.also_amount = n;
+        }
+        s.scans.push_back(std::move(copy));
+        e.scan = s.scans.size() - 1;
+      }
+      const int fault_index = static_cast<int>(s.faults.size());
+      if (cls == "duplicate") {
+        push(e);
+        e.arrival_ns += kDuplicateGap;
+      }
+      e.fault = fault_index;
+      push(e);
+    }
+    s.faults.push_back(f);
+  };
+
+  double counted[2] = {0.0, 0.0};  // ticks, fractional
+  std::uint32_t offset[2] = {kCounterStart, kCounterStart};
+  s.truth.reserve(static_cast<std::size_t>(steps));
+  for (int k = 0; k < steps; ++k) {
+    const hal::TimeNs t = kSimStartNs + static_cast<hal::TimeNs>(k) * kSimStepNs;
+    if (k == kidnap_step) {
+      const std::size_t seg = nearest_segment(route, pose()) + 3;
+      const est::Pose2 to = route.pose_on_segment(seg % route.size(), 0.3f);
+      if (bicycle)
+        bike->teleport(to, seg + 1);
+      else
+        diff->teleport(to, seg + 1);
+      s.kidnap_ns = t;
+      s.faults.push_back({t, "event.kidnap", "-", 1, "", 0});
+    }
+    const est::Pose2 p = pose();
+    std::int32_t cx = 0, cy = 0;
+    if (!world.grid.world_to_cell(p.x, p.y, cx, cy) || world.grid.classify(cx, cy) == est::CellClass::occupied) {
+      char where[160];
+      std::snprintf(where, sizeof where, "the robot left the free space at (%.2f, %.2f) m, %.2f s into the run",
+                    static_cast<double>(p.x), static_cast<double>(p.y), static_cast<double>(k) * 0.01);
+      throw std::invalid_argument(std::string(where) + ": the route crosses an obstacle or leaves the map (--route)");
+    }
+    s.truth.push_back({t, p, 0.0f, 0.0f});
+    const bool silent = in_any(burst, t);
+
+    // Encoders: the counters through the previous step.
+    if (k % enc_div == 0 && !silent) {
+      const int j = k / enc_div;
+      const auto it = wheel_faults.find(j);
+      if (it != wheel_faults.end() && it->second == "counter_jump") {
+        // An encoder reset: the counters continue from garbage, far from where they were.
+        for (std::uint32_t& o : offset) {
+          std::uint32_t jump = 0;
+          do jump = fault_rng.next(); while (jump < (1u << 24) || jump > 0u - (1u << 24));
+          o += jump;
+        }
+      }
+      emit(wheels, wheel_faults, j, t, [&](hal::TimeNs stamp) {
+        StreamEvent e;
+        e.kind = StreamKind::wheel_ticks;
+        e.ticks.stamp_ns = stamp;
+        e.ticks.wheel_count = 2;
+        e.ticks.count[0] = counter_value(offset[0], counted[0]);
+        e.ticks.count[1] = counter_value(offset[1], counted[1]);
+        return e;
+      });
+    }
+
+    // The command of this step moves the truth; the encoders count the wheels' turning (with their errors).
+    const bool slipping = in_any(slips, t);
+    const auto count_factor = [&]() {
+      return 1.0 + c.encoder_scale_error + (slipping ? c.slip_factor : 0.0) +
+             static_cast<double>(est::sample_normal(odo_rng, static_cast<float>(c.encoder_noise)));
+    };
+    float steer_cmd = 0.0f;
+    if (bicycle) {
+      const est::BicycleControl u = bike->step(truth_rng);
+      steer_cmd = u.steer;
+      const double travel = static_cast<double>(u.v) * static_cast<double>(kSimStepS) / s.metres_per_tick;
+      counted[0] += travel * count_factor();
+      counted[1] += travel * std::cos(static_cast<double>(u.steer)) * count_factor();  // the rear wheel
+    } else {
+      const est::DiffDriveControl u = diff->step(truth_rng);
+      counted[0] += static_cast<double>(u.left_ticks) * count_factor();
+      counted[1] += static_cast<double>(u.right_ticks) * count_factor();
+    }
+    const est::Pose2 next = pose();
+    s.truth.back().v_mps = std::hypot(next.x - p.x, next.y - p.y) / kSimStepS;
+    s.truth.back().omega_rps = wrap(next.theta - p.theta) / kSimStepS;
+
+    // Steering: the wheel angle held over this step, with the sensor's bias and noise.
+    if (bicycle && k % steer_div == 0) {
+      const float measured = steer_cmd + static_cast<float>(c.steering_bias_deg * kPi / 180.0) +
+                             est::sample_normal(odo_rng, static_cast<float>(c.steering_sigma_deg * kPi / 180.0));
+      if (!silent)
+        emit(steering, steer_faults, k / steer_div, t, [&](hal::TimeNs stamp) {
+          StreamEvent e;
+          e.kind = StreamKind::steering;
+          e.steering = {stamp, measured};
+          return e;
+        });
+    }
+
+    // The scan from this step's pose (always drawn, so the noise does not depend on the fault plan).
+    if (k % scan_div == 0) {
+      est::sim::simulate_scan(world.grid, p, s.mount, layout, c.range_noise, range_rng, ranges);
+      if (!silent) {
+        emit(scans, scan_faults, k / scan_div, t, [&](hal::TimeNs stamp) {
+          ScanRecord r;
+          r.stamp_ns = stamp;
+          r.geometry = geometry;
+          r.ranges = ranges;
+          s.scans.push_back(std::move(r));
+          StreamEvent e;
+          e.kind = StreamKind::scan;
+          e.scan = s.scans.size() - 1;
+          return e;
+        });
+      }
+    }
+  }
+
+  std::stable_sort(events.begin(), events.end(), [](const auto& a, const auto& b) {
+    return a.first.arrival_ns != b.first.arrival_ns ? a.first.arrival_ns < b.first.arrival_ns : a.second < b.second;
+  });
+  s.events.reserve(events.size());
+  for (auto& e : events) s.events.push_back(e.first);
+  return s;
+}
+
+}  // namespace sim

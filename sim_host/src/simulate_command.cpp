@@ -1,0 +1,247 @@
+// The simulate and record subcommands: one scenario (world, robot, sensors, faults), run in process through the HAL
+// and the firmware's filter loop, or written to an LCM log.
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "sim/commands.hpp"
+#include "sim/record.hpp"
+#include "sim/scenario.hpp"
+#include "sim/simulate.hpp"
+
+namespace sim {
+namespace {
+
+struct ScenarioOptions {
+  ScenarioConfig config;
+  std::string robot = "bicycle";
+  std::string route;
+  std::string plan = "default";
+  std::vector<std::string> fault_overrides;
+  double range_sigma = 0.02, p_rand = 0.01, p_short = 0.01;
+};
+
+std::string fault_help() {
+  std::ostringstream s;
+  s << "Fault classes for --fault KEY=COUNT (and the counter that must show each one):\n";
+  for (const FaultClassInfo& f : fault_catalogue())
+    s << "  " << f.key << std::string(f.key.size() < 27 ? 27 - f.key.size() : 1, ' ') << f.what << "  [" << f.expected
+      << "]\n";
+  s << "Events: --kidnap-at (the robot is carried 3 route segments ahead), --burst-at/--burst-ms (every stream\n"
+       "silent: a bus outage), --slip-events (the encoders count --slip-factor more for --slip-duration).\n";
+  return s.str();
+}
+
+void add_scenario_options(CLI::App* c, ScenarioOptions& o) {
+  ScenarioConfig& s = o.config;
+  c->add_option("--map", s.map_yaml, "ROS map_server YAML (default: the synthetic office, 20 m x 15 m)");
+  c->add_option("--route", o.route,
+                "waypoints 'x,y;x,y;...' in the map frame, visited in a loop (required with --map; default: the "
+                "office's 24.7 m route)");
+  c->add_option("--robot", o.robot, "bicycle (front-wheel referenced, traction encoder + steering) or diff-drive")
+      ->check(CLI::IsMember({"bicycle", "diff-drive"}))
+      ->capture_default_str();
+  c->add_option("--duration", s.duration_s, "simulated time, s")->capture_default_str();
+  c->add_option("--speed", s.speed_mps, "cruise speed, m/s")->capture_default_str();
+  c->add_option("--start-segment", s.start_segment, "the run starts at the beginning of this route segment")
+      ->capture_default_str();
+  c->add_option("--seed", s.seed, "seed of every random draw (same seed: identical outputs)")->capture_default_str();
+  c->add_option("--encoder-hz", s.encoder_hz, "encoder sample rate (divides 100)")->capture_default_str();
+  c->add_option("--steering-hz", s.steering_hz, "steering sample rate (bicycle)")->capture_default_str();
+  c->add_option("--scan-hz", s.scan_hz, "rangefinder scan rate")->capture_default_str();
+  c->add_option("--beams", s.beams, "beams per scan")->capture_default_str();
+  c->add_option("--fov-deg", s.fov_deg, "field of view, deg (360: a full turn, beams at 360/beams deg)")
+      ->capture_default_str();
+  c->add_option("--range-max", s.range_max_m, "maximum range, m (no return reads range_max)")->capture_default_str();
+  c->add_option("--range-sigma", o.range_sigma, "beam model: sigma of a hit, m")->capture_default_str();
+  c->add_option("--p-rand", o.p_rand, "beam model: probability of a random reading")->capture_default_str();
+  c->add_option("--p-short", o.p_short, "beam model: probability of a short reading (unmapped obstacle)")
+      ->capture_default_str();
+  c->add_option("--encoder-scale-error", s.encoder_scale_error, "relative error of the counted wheel travel")
+      ->capture_default_str();
+  c->add_option("--encoder-noise", s.encoder_noise, "relative noise of each step's counted travel")
+      ->capture_default_str();
+  c->add_option("--slip-events", s.slip_events, "wheel-spin episodes")->capture_default_str();
+  c->add_option("--slip-duration", s.slip_duration_s, "length of each, s")->capture_default_str();
+  c->add_option("--slip-factor", s.slip_factor, "extra travel counted while slipping")->capture_default_str();
+  c->add_option("--steering-sigma-deg", s.steering_sigma_deg, "steering sensor noise, deg")->capture_default_str();
+  c->add_option("--steering-bias-deg", s.steering_bias_deg, "steering sensor bias, deg")->capture_default_str();
+  c->add_option("--faults", o.plan, "fault plan: default (58 faults for the bicycle, 41 for the diff drive, over 60 s) or none")
+      ->check(CLI::IsMember({"default", "none"}))
+      ->capture_default_str();
+  c->add_option("--fault", o.fault_overrides, "KEY=COUNT: set one fault class's count (repeatable; see below)");
+  c->add_option("--kidnap-at", s.kidnap_at_s, "kidnapping time, s (negative: none)")->capture_default_str();
+  c->add_option("--burst-at", s.burst_at_s, "bus outage time, s (negative: none)")->capture_default_str();
+  c->add_option("--burst-ms", s.burst_ms, "bus outage length, ms")->capture_default_str();
+  c->footer(fault_help());
+}
+
+std::vector<est::sim::Waypoint> parse_route(const std::string& text) {
+  std::vector<est::sim::Waypoint> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ';')) {
+    if (item.find_first_not_of(" \t") == std::string::npos) continue;
+    double x = 0.0, y = 0.0;
+    char comma = 0, extra = 0;
+    std::istringstream is(item);
+    if (!(is >> x >> comma >> y) || comma != ',' || (is >> extra) || !std::isfinite(x) || !std::isfinite(y))
+      throw CLI::ValidationError("--route", "expected 'x,y;x,y;...', got '" + item + "'");
+    out.push_back({static_cast<float>(x), static_cast<float>(y)});
+  }
+  if (out.size() < 2) throw CLI::ValidationError("--route", "needs at least two waypoints");
+  return out;
+}
+
+ScenarioConfig finish_scenario(ScenarioOptions& o) {
+  ScenarioConfig s = o.config;
+  s.robot = o.robot == "diff-drive" ? RobotKind::diff_drive : RobotKind::bicycle;
+  if (!o.route.empty()) s.route = parse_route(o.route);
+  s.range_noise = {static_cast<float>(o.range_sigma), static_cast<float>(o.p_rand), static_cast<float>(o.p_short)};
+  if (!(o.range_sigma > 0.0) || o.p_rand < 0.0 || o.p_short < 0.0 || o.p_rand + o.p_short > 1.0)
+    throw CLI::ValidationError("--range-sigma/--p-rand/--p-short", "sigma > 0, probabilities >= 0 summing to <= 1");
+  s.faults = o.plan == "default" ? default_fault_counts(s.robot) : FaultCounts{};
+  for (const std::string& f : o.fault_overrides) {
+    const std::size_t eq = f.find('=');
+    if (eq == std::string::npos) throw CLI::ValidationError("--fault", "expected KEY=COUNT, got '" + f + "'");
+    try {
+      s.faults[f.substr(0, eq)] = std::stoi(f.substr(eq + 1));
+    } catch (const std::exception&) {
+      throw CLI::ValidationError("--fault", "expected KEY=COUNT, got '" + f + "'");
+    }
+  }
+  return s;
+}
+
+std::string num(const char* f, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+void print_summary(const SimResult& r, const ScenarioConfig& sc, const SimWorld& w, const std::string& out) {
+  const SimMetrics& m = r.metrics;
+  std::cout << "simulate: " << to_string(sc.robot) << " in " << w.name << ", " << num("%.1f", sc.duration_s)
+            << " s, seed " << sc.seed << ": " << r.rows.size() << " estimates in " << num("%.1f", r.wall_s) << " s ("
+            << num("%.1f", sc.duration_s / std::max(r.wall_s, 1e-9)) << "x real time)\n";
+  for (const PhaseMetrics& p : m.phases) {
+    std::cout << "  " << p.name << " (from " << num("%.2f", p.start_s) << " s): ";
+    if (p.localized)
+      std::cout << "localized after " << num("%.2f", p.time_to_localize_s) << " s\n";
+    else
+      std::cout << "NOT localized by " << num("%.2f", p.end_s) << " s\n";
+  }
+  if (m.rmse_position_m >= 0.0)
+    std::cout << "  once localized (" << num("%.1f", m.localized_time_s) << " s): position RMSE "
+              << num("%.3f", m.rmse_position_m) << " m (max " << num("%.3f", m.max_position_error_m)
+              << " m), heading RMSE " << num("%.2f", m.rmse_heading_deg) << " deg (max "
+              << num("%.2f", m.max_heading_error_deg) << " deg); outside the bounds for "
+              << num("%.2f", m.outside_bounds_s) << " s\n";
+  const auto expected = r.stream.expected_counts();
+  const auto observed = r.observed_counts();
+  std::map<std::string, int> keys = expected;
+  for (const auto& kv : observed) keys[kv.first] += 0;
+  int injected = 0;
+  for (const InjectedFault& f : r.stream.faults)
+    if (f.key.rfind("event.", 0) != 0) ++injected;
+  bool match = true;
+  std::cout << "  faults: " << injected << " injected into the streams; rejects by counter (counted / injected):\n";
+  for (const auto& kv : keys) {
+    const int e = expected.count(kv.first) ? expected.at(kv.first) : 0;
+    const int o = observed.count(kv.first) ? observed.at(kv.first) : 0;
+    match = match && e == o;
+    std::cout << "    " << kv.first << std::string(kv.first.size() < 34 ? 34 - kv.first.size() : 1, ' ') << o << " / "
+              << e << (e == o ? "" : "   <-- MISMATCH") << "\n";
+  }
+  std::cout << "  every injected fault counted with its reason: " << (match ? "yes" : "NO") << "\n";
+  std::cout << "  loop: " << r.loop.predictions << " predictions, " << r.loop.corrections << " corrections, "
+            << r.loop.encoder_timeouts << " outputs with stale encoders, " << r.loop.scan_timeouts
+            << " with stale scans; worst step " << num("%.2f", static_cast<double>(r.loop.worst_step_ns) * 1e-6)
+            << " ms (wall clock)\n";
+  std::cout << "  outputs in " << out << "/\n";
+}
+
+}  // namespace
+
+void add_simulate_command(CLI::App& app) {
+  auto opts = std::make_shared<ScenarioOptions>();
+  auto filter = std::make_shared<FilterOptions>();
+  auto out = std::make_shared<std::string>();
+  auto start = std::make_shared<std::string>("global");
+  auto no_plots = std::make_shared<bool>(false);
+  auto no_kld = std::make_shared<bool>(false);
+  CLI::App* c = app.add_subcommand(
+      "simulate",
+      "Host simulation end to end: a robot drives a route in a world; encoder, steering and 2D rangefinder streams "
+      "with noise and injected faults go through the HAL gate (hal::ValidatedInputs) and the firmware's filter loop "
+      "(est::loop::FilterLoop + MclEstimator) in process. Writes OUT/trajectory.csv (truth and estimate per output), "
+      "OUT/faults.csv, OUT/metrics.json (RMSE, time to converge and to recover, rejects by reason vs injected "
+      "faults, loop counters) and OUT/trajectory.png, errors.png, particles.png. Same seed: identical CSV.");
+  c->add_option("--out", *out, "output directory (created)")->required();
+  add_scenario_options(c, *opts);
+  c->add_option("--start", *start, "global (uniform over the free space) or tracking (around the true start)")
+      ->check(CLI::IsMember({"global", "tracking"}))
+      ->capture_default_str();
+  c->add_option("--particles", filter->particles, "initial particles (at most 20000)")->capture_default_str();
+  c->add_flag("--no-kld", *no_kld, "keep the particle count fixed (default: KLD-sampling adapts it)");
+  c->add_option("--kld-min", filter->kld_min, "KLD-sampling's minimum count")->capture_default_str();
+  c->add_option("--beam-stride", filter->beam_stride, "the filter uses every n-th beam")->capture_default_str();
+  c->add_option("--alpha-slow", filter->alpha_slow, "augmented MCL: decay of the slow likelihood average, per scan")
+      ->capture_default_str();
+  c->add_option("--alpha-fast", filter->alpha_fast, "augmented MCL: decay of the fast likelihood average, per scan")
+      ->capture_default_str();
+  c->add_option("--max-injection", filter->max_injection, "augmented MCL: largest share of random particles per resampling")
+      ->capture_default_str();
+  c->add_option("--localized-m", filter->converge_pos_m, "localized: position error below this, m")
+      ->capture_default_str();
+  c->add_option("--localized-deg", filter->converge_heading_deg, "localized: heading error below this, deg")
+      ->capture_default_str();
+  c->add_option("--hold", filter->hold_s, "localized: within both bounds for this long, s")->capture_default_str();
+  c->add_flag("--no-plots", *no_plots, "skip the PNG figures (no gnuplot needed)");
+  c->callback([=]() {
+    const ScenarioConfig sc = finish_scenario(*opts);
+    FilterOptions fo = *filter;
+    fo.start = *start == "tracking" ? StartKind::tracking : StartKind::global;
+    fo.kld = !*no_kld;
+    const SimWorld world = load_world(sc);
+    const SimResult r = run_simulation(sc, fo, world);
+    write_simulation_outputs(r, sc, fo, world, *out, !*no_plots);
+    print_summary(r, sc, world, *out);
+  });
+}
+
+void add_record_command(CLI::App& app) {
+  auto opts = std::make_shared<ScenarioOptions>();
+  auto out = std::make_shared<std::string>();
+  CLI::App* c = app.add_subcommand(
+      "record",
+      "The same scenario as simulate (world, robot, sensors, faults) written as an LCM log for estimator_node "
+      "--replay and the HIL test: EST_WHEEL_TICKS, EST_STEERING, EST_RANGE_SCAN and EST_GROUND_TRUTH (est_lcm "
+      "types), event times = arrival times (us). Also writes FILE.json: message counts, injected faults and the "
+      "reject counts a HAL must show on replay.");
+  c->add_option("--out", *out, "the .lcmlog file to write")->required();
+  add_scenario_options(c, *opts);
+  c->callback([=]() {
+    const ScenarioConfig sc = finish_scenario(*opts);
+    const SimWorld world = load_world(sc);
+    const SensorStream s = generate_stream(sc, world);
+    const std::filesystem::path parent = std::filesystem::path(*out).parent_path();
+    if (!parent.empty()) std::filesystem::create_directories(parent);
+    const RecordSummary summary = record_lcm_log(s, *out);
+    std::ofstream f(*out + ".json");
+    f << record_sidecar_json(s, sc, world, summary, *out);
+    if (!f) throw std::runtime_error("cannot write " + *out + ".json");
+    std::cout << "record: " << to_string(sc.robot) << " in " << world.name << ", " << sc.duration_s << " s, seed "
+              << sc.seed << ": " << summary.events << " events -> " << *out << "\n";
+    for (const auto& [channel, n] : summary.messages) std::cout << "  " << channel << ": " << n << "\n";
+    std::cout << "  injected faults and expected reject counts: " << *out << ".json\n";
+  });
+}
+
+}  // namespace sim

@@ -1,0 +1,436 @@
+// The files of a simulation run: per-output CSV, the injected faults, the metrics JSON, and the gnuplot figures.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+
+#include "sim/plot.hpp"
+#include "sim/simulate.hpp"
+
+namespace sim {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = 180.0 / kPi;
+
+double seconds(hal::TimeNs t, hal::TimeNs t0) { return static_cast<double>(t - t0) * 1e-9; }
+
+std::string fmt(const char* f, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+std::ofstream open(const fs::path& p) {
+  std::ofstream f(p, std::ios::binary);
+  if (!f) throw std::runtime_error("cannot write " + p.string());
+  return f;
+}
+
+void write_csv(const SimResult& r, const fs::path& path) {
+  std::ofstream f = open(path);
+  const hal::TimeNs t0 = r.stream.truth.front().t_ns;
+  f << "t_s,truth_x_m,truth_y_m,truth_theta_rad,est_x_m,est_y_m,est_theta_rad,position_error_m,heading_error_rad,"
+       "est_sigma_x_m,est_sigma_y_m,est_sigma_theta_rad,particles,status,rejected_inputs\n";
+  char line[512];
+  for (const OutputRow& w : r.rows) {
+    std::snprintf(line, sizeof line, "%.3f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%u,%u,%u\n",
+                  seconds(w.t_ns, t0), static_cast<double>(w.truth.x), static_cast<double>(w.truth.y),
+                  static_cast<double>(w.truth.theta), static_cast<double>(w.estimate.x),
+                  static_cast<double>(w.estimate.y), static_cast<double>(w.estimate.theta),
+                  static_cast<double>(w.position_error_m), static_cast<double>(w.heading_error_rad),
+                  static_cast<double>(w.sigma_x_m), static_cast<double>(w.sigma_y_m),
+                  static_cast<double>(w.sigma_theta_rad), w.particles, w.status, w.rejected_inputs);
+    f << line;
+  }
+  if (!f) throw std::runtime_error("error writing " + path.string());
+}
+
+void write_faults_csv(const SimResult& r, const fs::path& path) {
+  std::ofstream f = open(path);
+  const hal::TimeNs t0 = r.stream.truth.front().t_ns;
+  f << "t_s,fault,expected_counter,amount\n";
+  for (const InjectedFault& x : r.stream.faults)
+    f << fmt("%.3f", seconds(x.t_ns, t0)) << "," << x.key << "," << x.expected << "," << x.amount << "\n";
+}
+
+// The map as an image for gnuplot (x y value; 0 free, 1 unknown, 2 occupied), at most ~500 columns.
+void write_map_data(const SimWorld& w, const fs::path& path) {
+  std::ofstream f = open(path);
+  const est::OccupancyGrid& g = w.grid;
+  const std::int32_t step = std::max<std::int32_t>(1, (std::max(g.width(), g.height()) + 499) / 500);
+  for (std::int32_t cy = 0; cy < g.height(); cy += step) {
+    for (std::int32_t cx = 0; cx < g.width(); cx += step) {
+      // A block is as occupied as its most occupied cell, so thin walls survive the downsampling.
+      int v = 0;
+      for (std::int32_t dy = 0; dy < step && cy + dy < g.height(); ++dy)
+        for (std::int32_t dx = 0; dx < step && cx + dx < g.width(); ++dx) {
+          const est::CellClass c = g.classify(cx + dx, cy + dy);
+          v = std::max(v, c == est::CellClass::occupied ? 2 : c == est::CellClass::unknown ? 1 : 0);
+        }
+      f << fmt("%.3f", static_cast<double>(g.origin_x()) + (cx + 0.5 * step) * static_cast<double>(g.resolution())) << " "
+        << fmt("%.3f", static_cast<double>(g.origin_y()) + (cy + 0.5 * step) * static_cast<double>(g.resolution())) << " " << v << "\n";
+    }
+    f << "\n";
+  }
+}
+
+// Truth and estimate at 20 Hz; the estimate's line is broken where it jumps (a new cluster won), so jumps are not
+// drawn as motion.
+void write_track_data(const SimResult& r, const fs::path& truth_path, const fs::path& est_path) {
+  std::ofstream ft = open(truth_path), fe = open(est_path);
+  const hal::TimeNs t0 = r.stream.truth.front().t_ns;
+  for (std::size_t k = 0; k < r.stream.truth.size(); k += 5) {
+    const TruthSample& s = r.stream.truth[k];
+    if (r.stream.kidnap_ns >= 0 && s.t_ns >= r.stream.kidnap_ns && s.t_ns < r.stream.kidnap_ns + 5 * kSimStepNs)
+      ft << "\n";  // the robot was carried: no line across
+    ft << fmt("%.4f", seconds(s.t_ns, t0)) << " " << s.pose.x << " " << s.pose.y << "\n";
+  }
+  hal::TimeNs last_t = -1;
+  est::Pose2 last{};
+  for (const OutputRow& w : r.rows) {
+    if (last_t >= 0 && w.t_ns - last_t < 50 * hal::kNsPerMs) continue;
+    if (last_t >= 0 && std::hypot(w.estimate.x - last.x, w.estimate.y - last.y) > 0.4f) fe << "\n";
+    fe << fmt("%.4f", seconds(w.t_ns, t0)) << " " << w.estimate.x << " " << w.estimate.y << "\n";
+    last_t = w.t_ns;
+    last = w.estimate;
+  }
+}
+
+void write_snapshot_data(const ParticleSnapshot& s, const fs::path& path) {
+  std::ofstream f = open(path);
+  for (const est::Pose2& p : s.particles) f << p.x << " " << p.y << " " << p.theta << "\n";
+}
+
+void run_gnuplot(const fs::path& script, const fs::path& png) {
+  std::error_code ec;
+  fs::remove(png, ec);
+  // The scripts name their data files relative to their folder, so they also run by hand there.
+  const int rc = run_program({"sh", "-c", "cd \"$1\" && exec gnuplot \"$2\"", "sh",
+                              script.parent_path().string(), script.filename().string()});
+  if (rc != 0)
+    throw std::runtime_error("gnuplot " + script.string() + " failed (exit " + std::to_string(rc) +
+                             "); is gnuplot installed (scripts/setup)?");
+  if (!fs::exists(png) || fs::file_size(png) == 0) throw std::runtime_error("gnuplot wrote no " + png.string());
+}
+
+std::string q(const fs::path& p) { return "'" + p.filename().string() + "'"; }
+
+// Map framing shared by the map plots.
+void map_frame(std::ostream& gp, const SimWorld& w) {
+  const est::OccupancyGrid& g = w.grid;
+  const double x0 = static_cast<double>(g.origin_x()), y0 = static_cast<double>(g.origin_y());
+  const double x1 = x0 + g.width() * static_cast<double>(g.resolution());
+  const double y1 = y0 + g.height() * static_cast<double>(g.resolution());
+  gp << "set size ratio -1\n";
+  gp << "set xrange [" << x0 << ":" << x1 << "]\nset yrange [" << y0 << ":" << y1 << "]\n";
+  gp << "set palette defined (0 'white', 1 '#dcdcdc', 2 '#202020')\nset cbrange [0:2]\nunset colorbox\n";
+  gp << "set xlabel 'x (m)'\nset ylabel 'y (m)'\n";
+  gp << "set grid front lc rgb '#c8c8c8' lw 0.5\n";
+}
+
+std::string robot_title(const ScenarioConfig& sc) {
+  return std::string(to_string(sc.robot)) + ", seed " + std::to_string(sc.seed);
+}
+
+void plot_trajectory(const SimResult& r, const ScenarioConfig& sc, const SimWorld& w, const fs::path& dir) {
+  const fs::path gp_path = dir / "trajectory.gp", png = dir / "trajectory.png";
+  std::ofstream gp = open(gp_path);
+  gp << "# sim_host simulate: map, route, truth, estimate and particle clouds (run: cd to this folder; gnuplot "
+        "trajectory.gp)\n";
+  gp << "set terminal pngcairo size 1400,1250 enhanced font 'Sans,12'\nset output 'trajectory.png'\n";
+  map_frame(gp, w);
+  const hal::TimeNs t0 = r.stream.truth.front().t_ns;
+  std::ostringstream title;
+  title << "Monte Carlo localization in the " << (w.name == "office" ? "synthetic office" : fs::path(w.name).filename().string()) << " ("
+        << robot_title(sc) << ")\\nposition RMSE once localized " << fmt("%.3f", r.metrics.rmse_position_m)
+        << " m, heading RMSE " << fmt("%.2f", r.metrics.rmse_heading_deg) << " deg";
+  gp << "set title \"" << title.str() << "\" noenhanced\n";
+  gp << "set key below center horizontal maxcols 3 box opaque width 1 spacing 1.2 noenhanced\n";
+  // Route
+  {
+    std::ofstream f = open(dir / "route.dat");
+    for (std::size_t i = 0; i <= w.route->size(); ++i) f << (*w.route)[i].x << " " << (*w.route)[i].y << "\n";
+  }
+  // Kidnapping arrow and burst marker.
+  int arrow = 1;
+  if (r.stream.kidnap_ns >= 0) {
+    const est::Pose2 a = r.stream.truth_at(r.stream.kidnap_ns - kSimStepNs).pose;
+    const est::Pose2 b = r.stream.truth_at(r.stream.kidnap_ns).pose;
+    gp << "set arrow " << arrow++ << " from " << a.x << "," << a.y << " to " << b.x << "," << b.y
+       << " lw 2.5 dt 2 lc rgb '#d62728' head filled size 0.4,20 front\n";
+    gp << "set label 1 'kidnapped' at " << 0.5 * static_cast<double>(a.x + b.x) << "," << 0.5 * static_cast<double>(a.y + b.y)
+       << " offset 0.5,0.8 tc rgb '#d62728' front font 'Sans,11'\n";
+  }
+  const est::Pose2 s0 = r.stream.truth.front().pose;
+  gp << "set arrow " << arrow++ << " from " << s0.x << "," << s0.y << " rto " << 0.8 * std::cos(static_cast<double>(s0.theta)) << ","
+     << 0.8 * std::sin(static_cast<double>(s0.theta)) << " lw 3 lc rgb '#2ca02c' head filled size 0.3,25 front\n";
+  // Snapshots drawn: the cloud at 1 s (global localization) and shortly after the kidnapping.
+  std::vector<std::pair<fs::path, std::string>> clouds;
+  const char* colors[] = {"#9467bd", "#ffa54f"};
+  for (std::size_t i = 0; i < r.snapshots.size(); ++i) {
+    const ParticleSnapshot& s = r.snapshots[i];
+    if (s.label != "first scan" && s.label != "kidnapped + 0.03 s") continue;
+    const fs::path p = dir / ("particles_" + std::to_string(i) + ".dat");
+    write_snapshot_data(s, p);
+    clouds.push_back({p, "particles at " + fmt("%.2f", seconds(s.t_ns, t0)) + " s (" + s.label + ", " +
+                             std::to_string(s.total) + ")"});
+  }
+  gp << "plot 'map.dat' using 1:2:3 with image notitle, \\\n";
+  gp << "  'route.dat' using 1:2 with linespoints lw 1.5 dt 3 pt 6 ps 1.2 lc rgb '#7f7f7f' title 'route', \\\n";
+  for (std::size_t i = 0; i < clouds.size(); ++i)
+    gp << "  " << q(clouds[i].first) << " using 1:2 with points pt 7 ps 0.45 lc rgb '" << colors[i % 2]
+       << "' title '" << clouds[i].second << "', \\\n";
+  gp << "  'truth.dat' using 2:3 with lines lw 3 lc rgb '#1f77b4' title 'truth', \\\n";
+  gp << "  'estimate.dat' using 2:3 with lines lw 1.5 lc rgb '#d62728' title 'estimate (strongest cluster)', \\\n";
+  {
+    std::ofstream f = open(dir / "start.dat");
+    f << s0.x << " " << s0.y << "\n";
+  }
+  gp << "  'start.dat' using 1:2 with points pt 7 ps 2 lc rgb '#2ca02c' title 'start (truth)'\n";
+  gp.close();
+  run_gnuplot(gp_path, png);
+}
+
+void plot_errors(const SimResult& r, const ScenarioConfig& sc, const FilterOptions& fo, const fs::path& dir) {
+  const fs::path gp_path = dir / "errors.gp", png = dir / "errors.png";
+  std::ofstream gp = open(gp_path);
+  const hal::TimeNs t0 = r.stream.truth.front().t_ns;
+  const double end = seconds(r.stream.end_ns, t0);
+  {
+    std::ofstream f = open(dir / "errors.dat");
+    for (const OutputRow& w : r.rows)
+      f << fmt("%.3f", seconds(w.t_ns, t0)) << " " << w.position_error_m << " " << static_cast<double>(w.heading_error_rad) * kDeg << " "
+        << w.particles << " " << std::hypot(w.sigma_x_m, w.sigma_y_m) << "\n";
+    std::ofstream g = open(dir / "fault_times.dat");
+    for (const InjectedFault& x : r.stream.faults) {
+      if (x.key.rfind("event.", 0) == 0) continue;
+      const int row = x.key.rfind("wheel", 0) == 0 ? 0 : x.key.rfind("steering", 0) == 0 ? 1 : 2;
+      g << fmt("%.3f", seconds(x.t_ns, t0)) << " " << row << " " << (x.expected == "-" ? 0 : 1) << "\n";
+    }
+  }
+  gp << "# sim_host simulate: errors over time (gnuplot errors.gp in this folder)\n";
+  gp << "set terminal pngcairo size 1500,1150 enhanced font 'Sans,12'\nset output 'errors.png'\n";
+  gp << "set multiplot layout 4,1 margins 0.08,0.80,0.06,0.94 spacing 0,0.03 title \"Estimate vs truth ("
+     << robot_title(sc) << ")\" font 'Sans,14'\n";
+  gp << "set xrange [0:" << end << "]\nset grid lc rgb '#dddddd'\n";
+  gp << "set key outside right top vertical noenhanced\n";
+  // Event lines on every panel.
+  std::ostringstream events;
+  int obj = 1;
+  for (const InjectedFault& x : r.stream.faults) {
+    const double t = seconds(x.t_ns, t0);
+    if (x.key == "event.kidnap")
+      events << "set arrow " << obj++ << " from " << t << ", graph 0 to " << t
+             << ", graph 1 nohead lw 2 dt 2 lc rgb '#d62728'\n";
+    if (x.key == "event.burst")
+      events << "set object " << obj++ << " rect from " << t << ", graph 0 to " << t + sc.burst_ms * 1e-3
+             << ", graph 1 fc rgb '#ffbb78' fs solid 0.6 noborder behind\n";
+    if (x.key == "event.slip")
+      events << "set object " << obj++ << " rect from " << t << ", graph 0 to " << t + sc.slip_duration_s
+             << ", graph 1 fc rgb '#c5e0b4' fs solid 0.6 noborder behind\n";
+  }
+  for (const PhaseMetrics& p : r.metrics.phases)
+    if (p.localized)
+      events << "set arrow " << obj++ << " from " << p.start_s + p.time_to_localize_s << ", graph 0 to "
+             << p.start_s + p.time_to_localize_s << ", graph 1 nohead lw 1.5 lc rgb '#2ca02c'\n";
+  gp << events.str();
+  gp << "set format x ''\n";
+  gp << "set ylabel 'position error (m)'\nset logscale y\nset yrange [0.002:30]\n";
+  gp << "plot 'errors.dat' using 1:2 with lines lw 1.5 lc rgb '#1f77b4' title 'position error', \\\n"
+     << "  'errors.dat' using 1:5 with lines lw 1 dt 2 lc rgb '#9467bd' title 'estimated sigma xy', \\\n"
+     << "  " << fo.converge_pos_m << " with lines lw 1 dt 3 lc rgb 'black' title 'localized bound "
+     << fo.converge_pos_m << " m', \\\n"
+     << "  NaN with lines lw 2 dt 2 lc rgb '#d62728' title 'kidnapping', \\\n"
+     << "  NaN with lines lw 1.5 lc rgb '#2ca02c' title 'localized from', \\\n"
+     << "  NaN with boxes fs solid 0.6 fc rgb '#ffbb78' title 'bus outage', \\\n"
+     << "  NaN with boxes fs solid 0.6 fc rgb '#c5e0b4' title 'wheel slip'\n";
+  gp << "set ylabel 'heading error (deg)'\nset yrange [0.01:180]\n";
+  gp << "plot 'errors.dat' using 1:3 with lines lw 1.5 lc rgb '#ff7f0e' title 'heading error', \\\n"
+     << "  " << fo.converge_heading_deg << " with lines lw 1 dt 3 lc rgb 'black' title 'localized bound "
+     << fo.converge_heading_deg << " deg'\n";
+  gp << "set ylabel 'particles'\nset yrange [100:30000]\n";
+  gp << "plot 'errors.dat' using 1:4 with steps lw 1.5 lc rgb '#8c564b' title 'particles (KLD)'\n";
+  gp << "unset logscale y\nset format x '%g'\nset xlabel 'time (s)'\nset yrange [-0.7:2.7]\n";
+  gp << "set ytics ('encoders' 0, 'steering' 1, 'scans' 2)\nset ylabel 'injected faults'\n";
+  gp << "plot 'fault_times.dat' using 1:($3 == 1 ? $2 : NaN) with points pt 9 ps 1.3 lc rgb '#d62728' title "
+        "'must be rejected', \\\n"
+     << "  'fault_times.dat' using 1:($3 == 0 ? $2 : NaN) with points pt 8 ps 1.3 lc rgb '#555555' title "
+        "'dropped or reordered'\n";
+  gp << "unset multiplot\n";
+  gp.close();
+  run_gnuplot(gp_path, png);
+}
+
+void plot_particles(const SimResult& r, const ScenarioConfig& sc, const SimWorld& w, const fs::path& dir) {
+  const fs::path gp_path = dir / "particles.gp", png = dir / "particles.png";
+  std::ofstream gp = open(gp_path);
+  const hal::TimeNs t0 = r.stream.truth.front().t_ns;
+  const std::size_t n = std::min<std::size_t>(r.snapshots.size(), 8);
+  gp << "# sim_host simulate: particle clouds at fixed times (gnuplot particles.gp in this folder)\n";
+  gp << "set terminal pngcairo size 2000,1000 enhanced font 'Sans,11'\nset output 'particles.png'\n";
+  gp << "set multiplot layout 2,4 title \"Particle clouds (" << robot_title(sc)
+     << "): truth (blue arrow), estimate (red arrow)\" font 'Sans,14'\n";
+  map_frame(gp, w);
+  gp << "unset key\n";
+  for (std::size_t i = 0; i < n; ++i) {
+    const ParticleSnapshot& s = r.snapshots[i];
+    const fs::path p = dir / ("snapshot_" + std::to_string(i) + ".dat");
+    write_snapshot_data(s, p);
+    gp << "unset arrow\n";
+    gp << "set title \"t = " << fmt("%.2f", seconds(s.t_ns, t0)) << " s (" << s.label << "), " << s.total
+       << " particles, error " << fmt("%.2f", std::hypot(s.estimate.x - s.truth.x, s.estimate.y - s.truth.y))
+       << " m\" noenhanced\n";
+    gp << "set arrow 1 from " << s.truth.x << "," << s.truth.y << " rto " << 0.9 * std::cos(static_cast<double>(s.truth.theta)) << ","
+       << 0.9 * std::sin(static_cast<double>(s.truth.theta)) << " lw 2.5 lc rgb '#701f77b4' head filled size 0.3,25 front\n";
+    gp << "set arrow 2 from " << s.estimate.x << "," << s.estimate.y << " rto " << 0.9 * std::cos(static_cast<double>(s.estimate.theta))
+       << "," << 0.9 * std::sin(static_cast<double>(s.estimate.theta)) << " lw 2 lc rgb '#70d62728' head filled size 0.3,25 front\n";
+    gp << "plot 'map.dat' using 1:2:3 with image, " << q(p) << " using 1:2 with points pt 7 ps 0.3 lc rgb '#ff7f0e'\n";
+  }
+  gp << "unset multiplot\n";
+  gp.close();
+  run_gnuplot(gp_path, png);
+}
+
+}  // namespace
+
+std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const FilterOptions& fo, const SimWorld& w) {
+  using nlohmann::json;
+  using ordered = nlohmann::ordered_json;
+  const hal::TimeNs t0 = r.stream.truth.front().t_ns;
+  ordered j;
+  j["scenario"] = {{"world", w.name},
+                   {"robot", to_string(sc.robot)},
+                   {"seed", sc.seed},
+                   {"duration_s", sc.duration_s},
+                   {"speed_mps", sc.speed_mps},
+                   {"route_waypoints", w.route->size()},
+                   {"encoder_hz", sc.encoder_hz},
+                   {"steering_hz", sc.robot == RobotKind::bicycle ? sc.steering_hz : 0},
+                   {"scan_hz", sc.scan_hz},
+                   {"beams", sc.beams},
+                   {"fov_deg", sc.fov_deg},
+                   {"range_max_m", sc.range_max_m},
+                   {"kidnap_at_s", r.stream.kidnap_ns >= 0 ? seconds(r.stream.kidnap_ns, t0) : -1.0},
+                   {"burst_at_s", sc.burst_at_s},
+                   {"burst_ms", sc.burst_ms}};
+  j["filter"] = {{"start", fo.start == StartKind::global ? "global" : "tracking"},
+                 {"particles", fo.particles},
+                 {"kld", fo.kld},
+                 {"kld_min", fo.kld_min},
+                 {"beam_stride", fo.beam_stride},
+                 {"localized_bound", {{"position_m", fo.converge_pos_m},
+                                      {"heading_deg", fo.converge_heading_deg},
+                                      {"hold_s", fo.hold_s}}}};
+  const SimMetrics& m = r.metrics;
+  ordered phases = ordered::array();
+  for (const PhaseMetrics& p : m.phases)
+    phases.push_back({{"phase", p.name},
+                      {"start_s", p.start_s},
+                      {"end_s", p.end_s},
+                      {"localized", p.localized},
+                      {"time_to_localize_s", p.time_to_localize_s}});
+  j["accuracy"] = {{"rmse_position_m", m.rmse_position_m},
+                   {"rmse_heading_deg", m.rmse_heading_deg},
+                   {"max_position_error_m", m.max_position_error_m},
+                   {"max_heading_error_deg", m.max_heading_error_deg},
+                   {"localized_time_s", m.localized_time_s},
+                   {"outside_bounds_while_localized_s", m.outside_bounds_s},
+                   {"rmse_position_all_outputs_m", m.rmse_position_all_m},
+                   {"note", "RMSE and maxima over the outputs from the time each phase is localized to its end"}};
+  j["phases"] = phases;
+  for (const PhaseMetrics& p : m.phases) {
+    if (p.name == "global localization")
+      j["time_to_converge_s"] = p.localized ? json(p.time_to_localize_s) : json(nullptr);
+    if (p.name == "kidnap recovery") j["time_to_recover_s"] = p.localized ? json(p.time_to_localize_s) : json(nullptr);
+  }
+  // Faults: what was injected, what each counter had to show, what it showed.
+  const std::map<std::string, int> expected = r.stream.expected_counts();
+  const std::map<std::string, int> observed = r.observed_counts();
+  ordered cmp = ordered::object();
+  bool match = true;
+  std::map<std::string, int> keys = expected;
+  for (const auto& [k, v] : observed) keys[k] += 0;
+  for (const auto& [k, unused] : keys) {
+    (void)unused;
+    const int e = expected.count(k) ? expected.at(k) : 0;
+    const int o = observed.count(k) ? observed.at(k) : 0;
+    cmp[k] = {{"injected", e}, {"counted", o}};
+    match = match && e == o;
+  }
+  std::map<std::string, int> injected;
+  for (const InjectedFault& x : r.stream.faults) injected[x.key] += 1;
+  j["faults"] = {{"injected_by_class", injected},
+                 {"rejects_by_counter", cmp},
+                 {"every_injected_fault_counted_with_its_reason", match},
+                 {"list", "faults.csv"}};
+  ordered hal_counts;
+  const std::pair<const char*, const hal::FaultCounters*> kinds[] = {
+      {"wheel_ticks", &r.wheel_faults}, {"steering", &r.steering_faults}, {"scan", &r.scan_faults}};
+  for (const auto& [name, c] : kinds) {
+    ordered k = ordered::object();
+    for (std::size_t i = 1; i < hal::kFaultCount; ++i) k[hal::to_string(static_cast<hal::Fault>(i))] = c->count[i];
+    hal_counts[name] = k;
+  }
+  hal_counts["scan_beams"] = {{"hits", r.beams.hits},
+                              {"max_range", r.beams.max_range},
+                              {"not_a_number", r.beams.not_a_number},
+                              {"below_min", r.beams.below_min}};
+  j["hal"] = hal_counts;
+  j["loop"] = {{"inputs", r.loop.inputs},
+               {"too_old", r.loop.too_old},
+               {"queue_full", r.loop.queue_full},
+               {"rejected", r.loop.rejected},
+               {"predictions", r.loop.predictions},
+               {"corrections", r.loop.corrections},
+               {"degenerate", r.loop.degenerate},
+               {"encoder_timeouts", r.loop.encoder_timeouts},
+               {"steering_timeouts", r.loop.steering_timeouts},
+               {"scan_timeouts", r.loop.scan_timeouts},
+               {"outputs", r.rows.size()},
+               {"nonfinite_estimates", r.nonfinite_estimates}};
+  j["mcl"] = {{"predictions", r.mcl.predictions},
+              {"corrections", r.mcl.corrections},
+              {"resamplings", r.mcl.resamplings},
+              {"injected_particles", r.mcl.injected_particles},
+              {"failed_injections", r.mcl.failed_injections},
+              {"degenerate_corrections", r.mcl.degenerate_corrections},
+              {"map_penalized", r.mcl.map_penalized}};
+  j["timing"] = {{"note", "wall-clock figures of this host; not part of the deterministic outputs"},
+                 {"wall_s", r.wall_s},
+                 {"realtime_factor", r.wall_s > 0.0 ? sc.duration_s / r.wall_s : 0.0},
+                 {"worst_step_ms", static_cast<double>(r.loop.worst_step_ns) * 1e-6},
+                 {"steps_over_5ms_budget", r.loop.overruns}};
+  return j.dump(2) + "\n";
+}
+
+std::vector<std::string> write_simulation_outputs(const SimResult& r, const ScenarioConfig& sc, const FilterOptions& fo,
+                                                  const SimWorld& w, const std::string& dir_name, bool plots) {
+  const fs::path dir(dir_name);
+  fs::create_directories(dir);
+  std::vector<std::string> out;
+  write_csv(r, dir / "trajectory.csv");
+  out.push_back((dir / "trajectory.csv").string());
+  write_faults_csv(r, dir / "faults.csv");
+  out.push_back((dir / "faults.csv").string());
+  {
+    std::ofstream f = open(dir / "metrics.json");
+    f << metrics_json(r, sc, fo, w);
+  }
+  out.push_back((dir / "metrics.json").string());
+  if (plots) {
+    write_map_data(w, dir / "map.dat");
+    write_track_data(r, dir / "truth.dat", dir / "estimate.dat");
+    plot_trajectory(r, sc, w, dir);
+    plot_errors(r, sc, fo, dir);
+    plot_particles(r, sc, w, dir);
+    for (const char* p : {"trajectory.png", "errors.png", "particles.png"}) out.push_back((dir / p).string());
+  }
+  return out;
+}
+
+}  // namespace sim
