@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   sim::add_sample_motion_command(app);
   sim::add_simulate_command(app);
   sim::add_record_command(app);
+  sim::add_learn_beam_model_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
