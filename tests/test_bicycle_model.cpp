@@ -58,20 +58,6 @@ std::vector<std::array<double, 3>> draw(const Pose2& x0, const BicycleControl& u
 }
 
 // Box of mean +- 4 std per axis of the samples.
-est::test::PoseBox box_around(const std::vector<std::array<double, 3>>& s, std::array<int, 3> cells) {
-  est::test::PoseBox b{};
-  for (std::size_t d = 0; d < 3; ++d) {
-    std::vector<double> v;
-    for (const auto& q : s) v.push_back(q[d]);
-    const auto m = est::test::moments(v);
-    b.lo[d] = m.mean - 4.0 * std::sqrt(m.variance);
-    b.hi[d] = m.mean + 4.0 * std::sqrt(m.variance);
-  }
-  b.cells = cells;
-  b.tol = 2e-6;  // per cell: 0.2 counts of 100000, against a sampling sd of >= 2.2 counts in any unmerged cell
-  b.max_depth = 3;
-  return b;
-}
 
 }  // namespace
 
@@ -250,7 +236,7 @@ TEST_CASE("bicycle likelihood agrees with the sample histogram (chi-square, alph
     BicycleParams p = noisy_params();
     p.frame_length = static_cast<float>(c.l);
     const auto samples = draw(c.x0, c.u, p, 100000, 77u);
-    const auto box = box_around(samples, {8, 8, 6});
+    const auto box = est::test::box_around(samples, {8, 8, 6});
     const auto f = [&](double x, double y, double t) {
       return static_cast<double>(BicycleMotionModel::likelihood(
           {static_cast<float>(x), static_cast<float>(y), static_cast<float>(t)}, c.u, c.x0, p));
@@ -322,7 +308,7 @@ TEST_CASE("bicycle likelihood integrates to one", "[bicycle][density]") {
   const BicycleControl u{1.0f, static_cast<float>(40.0 * kDeg)};
   const Pose2 x0{0.0f, 0.0f, 0.0f};
   const auto samples = draw(x0, u, p, 20000, 5u);
-  auto box = box_around(samples, {1, 1, 1});
+  auto box = est::test::box_around(samples, {1, 1, 1});
   for (std::size_t d = 0; d < 3; ++d) {  // +-7 std: the mass outside is below 1e-6
     const double mid = 0.5 * (box.lo[d] + box.hi[d]), half = 0.5 * (box.hi[d] - box.lo[d]);
     box.lo[d] = mid - 1.75 * half;

@@ -53,20 +53,6 @@ std::vector<std::array<double, 3>> draw(const Pose2& x0, const WheelTravel& d, c
   return out;
 }
 
-est::test::PoseBox box_around(const std::vector<std::array<double, 3>>& s, std::array<int, 3> cells) {
-  est::test::PoseBox b{};
-  for (std::size_t d = 0; d < 3; ++d) {
-    std::vector<double> v;
-    for (const auto& q : s) v.push_back(q[d]);
-    const auto m = est::test::moments(v);
-    b.lo[d] = m.mean - 4.0 * std::sqrt(m.variance);
-    b.hi[d] = m.mean + 4.0 * std::sqrt(m.variance);
-  }
-  b.cells = cells;
-  b.tol = 2e-6;  // per cell: 0.2 counts of 100000, against a sampling sd of >= 2.2 counts in any unmerged cell
-  b.max_depth = 3;
-  return b;
-}
 
 }  // namespace
 
@@ -207,7 +193,7 @@ TEST_CASE("diff drive likelihood agrees with the sample histogram (chi-square, a
   for (const Case& c : cases) {
     const DiffDriveParams p = noisy_params();
     const auto samples = draw(c.x0, c.d, p, 100000, 77u);
-    const auto box = box_around(samples, {8, 8, 6});
+    const auto box = est::test::box_around(samples, {8, 8, 6});
     const auto f = [&](double x, double y, double t) {
       return static_cast<double>(est::motion_model_diff_drive(
           {static_cast<float>(x), static_cast<float>(y), static_cast<float>(t)}, c.d, c.x0, p));
@@ -225,7 +211,7 @@ TEST_CASE("diff drive likelihood integrates to one", "[diff_drive][density]") {
   const WheelTravel d{0.7f, 1.0f};
   const Pose2 x0{0.0f, 0.0f, 0.0f};
   const auto samples = draw(x0, d, p, 20000, 5u);
-  auto box = box_around(samples, {1, 1, 1});
+  auto box = est::test::box_around(samples, {1, 1, 1});
   const auto f = [&](double x, double y, double t) {
     return static_cast<double>(
         est::motion_model_diff_drive({static_cast<float>(x), static_cast<float>(y), static_cast<float>(t)}, d, x0, p));

@@ -47,20 +47,6 @@ std::vector<std::array<double, 3>> draw(const Pose2& x0, const OmniControl& u, c
   return out;
 }
 
-est::test::PoseBox box_around(const std::vector<std::array<double, 3>>& s, std::array<int, 3> cells) {
-  est::test::PoseBox b{};
-  for (std::size_t d = 0; d < 3; ++d) {
-    std::vector<double> v;
-    for (const auto& q : s) v.push_back(q[d]);
-    const auto m = est::test::moments(v);
-    b.lo[d] = m.mean - 4.0 * std::sqrt(m.variance);
-    b.hi[d] = m.mean + 4.0 * std::sqrt(m.variance);
-  }
-  b.cells = cells;
-  b.tol = 2e-6;  // per cell: 0.2 counts of 100000, against a sampling sd of >= 2.2 counts in any unmerged cell
-  b.max_depth = 3;
-  return b;
-}
 
 }  // namespace
 
@@ -187,7 +173,7 @@ TEST_CASE("omni likelihood agrees with the sample histogram (chi-square, alpha =
   for (const Case& c : cases) {
     const OmniParams p = noisy_params();
     const auto samples = draw(c.x0, c.u, p, 100000, 77u);
-    const auto box = box_around(samples, {8, 8, 6});
+    const auto box = est::test::box_around(samples, {8, 8, 6});
     const auto f = [&](double x, double y, double t) {
       return static_cast<double>(OmniMotionModel::likelihood(
           {static_cast<float>(x), static_cast<float>(y), static_cast<float>(t)}, c.u, c.x0, p));
@@ -205,7 +191,7 @@ TEST_CASE("omni likelihood integrates to one", "[omni][density]") {
   const OmniControl u{0.8f, -0.3f, 1.2f};
   const Pose2 x0{0.0f, 0.0f, 0.0f};
   const auto samples = draw(x0, u, p, 20000, 5u);
-  auto box = box_around(samples, {1, 1, 1});
+  auto box = est::test::box_around(samples, {1, 1, 1});
   const auto f = [&](double x, double y, double t) {
     return static_cast<double>(
         OmniMotionModel::likelihood({static_cast<float>(x), static_cast<float>(y), static_cast<float>(t)}, u, x0, p));

@@ -137,4 +137,20 @@ PoseDensityComparison compare_pose_density(const std::vector<std::array<double, 
   return out;
 }
 
+// A box over +-4 sample standard deviations of each coordinate of pose samples, split into `cells`.
+inline PoseBox box_around(const std::vector<std::array<double, 3>>& s, std::array<int, 3> cells) {
+  PoseBox b{};
+  for (std::size_t d = 0; d < 3; ++d) {
+    std::vector<double> v;
+    for (const auto& q : s) v.push_back(q[d]);
+    const auto m = moments(v);
+    b.lo[d] = m.mean - 4.0 * std::sqrt(m.variance);
+    b.hi[d] = m.mean + 4.0 * std::sqrt(m.variance);
+  }
+  b.cells = cells;
+  b.tol = 2e-6;  // per cell: 0.2 counts of 100000, against a sampling sd of >= 2.2 counts in any unmerged cell
+  b.max_depth = 3;
+  return b;
+}
+
 }  // namespace est::test
