@@ -283,20 +283,7 @@ TEST_CASE("bicycle likelihood matches the samples when the speed noise exceeds t
     double frac = 0.0;
     for (const auto& q : samples) frac += (q[0] >= box_lo[0] && q[0] < box_hi[0]) ? 1.0 : 0.0;
     frac /= n;
-    double mass = 0.0;
-    const int cells = 5;
-    for (int i = 0; i < cells; ++i)
-      for (int j = 0; j < cells; ++j)
-        for (int k = 0; k < cells; ++k) {
-          const int idx[3] = {i, j, k};
-          std::array<double, 3> c_lo{}, c_hi{};
-          for (std::size_t d = 0; d < 3; ++d) {
-            const double w = (box_hi[d] - box_lo[d]) / cells;
-            c_lo[d] = box_lo[d] + w * idx[d];
-            c_hi[d] = c_lo[d] + w;
-          }
-          mass += est::test::integrate_adaptive(f, c_lo, c_hi, 1e-6, 3);
-        }
+    const double mass = est::test::integrate_grid(f, box_lo, box_hi, 5, 1e-6, 3);
     const double se = std::sqrt(frac * (1.0 - frac) / n);
     INFO((side == 0 ? "ahead" : "behind") << ": samples " << frac << " integral " << mass << " se " << se);
     CHECK(std::fabs(mass - frac) < 4.0 * se + 1.3e-4);  // 4 sigma plus the quadrature tolerance (125 x 1e-6)
@@ -318,20 +305,7 @@ TEST_CASE("bicycle likelihood integrates to one", "[bicycle][density]") {
     return static_cast<double>(
         BicycleMotionModel::likelihood({static_cast<float>(x), static_cast<float>(y), static_cast<float>(t)}, u, x0, p));
   };
-  double mass = 0.0;
-  const int n = 6;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k) {
-        const int idx[3] = {i, j, k};
-        std::array<double, 3> lo{}, hi{};
-        for (std::size_t d = 0; d < 3; ++d) {
-          const double w = (box.hi[d] - box.lo[d]) / n;
-          lo[d] = box.lo[d] + w * idx[d];
-          hi[d] = lo[d] + w;
-        }
-        mass += est::test::integrate_adaptive(f, lo, hi, 1e-6, 3);
-      }
+  const double mass = est::test::integrate_grid(f, box.lo, box.hi, 6, 1e-6, 3);
   INFO("integral - 1 = " << mass - 1.0);
   // 216 cells refined to 1e-6 each bound the quadrature error by 2.2e-4; measured |1 - integral| < 2e-7.
   CHECK(mass == Approx(1.0).margin(5e-4));

@@ -78,6 +78,27 @@ double integrate_adaptive(const Density& f, const std::array<double, 3>& lo, con
   return integrate_adaptive(f, lo, hi, tol, max_depth, integrate_box(f, lo, hi, 1));
 }
 
+// The integral of f over [lo, hi] split into n x n x n cells, each refined by integrate_adaptive to `tol`: the
+// quadrature error is below n^3 tol.
+template <typename Density>
+double integrate_grid(const Density& f, const std::array<double, 3>& lo, const std::array<double, 3>& hi, int n,
+                      double tol, int max_depth) {
+  double mass = 0.0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const int idx[3] = {i, j, k};
+        std::array<double, 3> c_lo{}, c_hi{};
+        for (std::size_t d = 0; d < 3; ++d) {
+          const double w = (hi[d] - lo[d]) / n;
+          c_lo[d] = lo[d] + w * idx[d];
+          c_hi[d] = c_lo[d] + w;
+        }
+        mass += integrate_adaptive(f, c_lo, c_hi, tol, max_depth);
+      }
+  return mass;
+}
+
 template <typename Density>
 PoseDensityComparison compare_pose_density(const std::vector<std::array<double, 3>>& samples, const Density& f,
                                            const PoseBox& box, double alpha) {
