@@ -4,10 +4,10 @@
 #include <cstdint>
 
 #include "est/math/fmath.hpp"
+#include "est/math/normal.hpp"
 
 namespace est {
 
-inline constexpr float kLogZero = -1.0e30f;  // stands for log 0; exp(kLogZero - anything finite) is 0
 
 struct LogNormalization {
   float log_sum;      // log of the sum of the unnormalized weights (the log marginal likelihood of the step + const)

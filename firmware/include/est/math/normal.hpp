@@ -7,6 +7,8 @@
 namespace est {
 
 inline constexpr float kLogSqrtTwoPi = 0.91893853320467274178f;  // log(sqrt(2 pi))
+// Stands for log 0 in every log-space weight and density of the firmware: exp(kLogZero - anything finite) is 0.
+inline constexpr float kLogZero = -1.0e30f;
 
 // log N(a; 0, sigma^2) for sigma > 0, with log(sigma) passed in so per-beam loops need no log call.
 inline float log_normal_density(float a, float sigma, float log_sigma) {

@@ -3,11 +3,11 @@
 // floors and caps that keep every result finite: a density is reported in [0, e^kMaxLogDensity], its log in
 // [kLogZero, kMaxLogDensity], never NaN or inf, whatever finite inputs (including zero noise) it is given.
 #include "est/math/fmath.hpp"
+#include "est/math/normal.hpp"
 
 namespace est::motion_density {
 
-// Stands for log 0 (the same value as the particle filter's kLogZero): exp of it is 0.
-inline constexpr float kLogZero = -1.0e30f;
+using est::kLogZero;
 // Upper cap of a log density: e^80 = 5.5e34 per (m^2 rad), far above any density a real noise level produces, and
 // far below FLT_MAX so that products with a weight stay finite. Reached only at the models' singular points (zero
 // noise, or the end pose on top of the start pose where the polar change of variables divides by the chord).
@@ -20,12 +20,11 @@ inline constexpr float kMaxStandardScore = 1.0e18f;
 
 // log N(a; 0, sigma^2), sigma floored at kMinSigma.
 inline float log_prob_normal(float a, float sigma) {
-  constexpr float kHalfLogTwoPi = 0.91893853320467274178f;
   const float s = sigma > kMinSigma ? sigma : kMinSigma;
   float z = a / s;
   if (!(z <= kMaxStandardScore)) z = kMaxStandardScore;  // also maps NaN and +inf to the cap
   if (z < -kMaxStandardScore) z = -kMaxStandardScore;
-  return -0.5f * z * z - fmath::log(s) - kHalfLogTwoPi;
+  return -0.5f * z * z - fmath::log(s) - kLogSqrtTwoPi;
 }
 
 // A log density clamped into [kLogZero, kMaxLogDensity]; NaN becomes kLogZero.
