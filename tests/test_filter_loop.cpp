@@ -15,6 +15,7 @@ constexpr TimeNs kMs = 1000000;
 struct RecordingEstimator {
   static constexpr bool kUsesSteering = true;
   static constexpr bool kUsesScans = true;
+  static constexpr bool kUsesLandmarks = true;
   struct Call {
     char kind;
     float dt_s;
@@ -37,6 +38,12 @@ struct RecordingEstimator {
     calls.push_back({'c', 0.0f, 0, 0, 0.0f, s.ranges[0]});
     if (!(s.ranges[0] > 0.0f)) return est::loop::StepOutcome::rejected;
     x = 0.5f * (x + s.ranges[0]);
+    return est::loop::StepOutcome::applied;
+  }
+  est::loop::StepOutcome correct(const est::loop::LandmarkInput& z) {
+    calls.push_back({'l', 0.0f, z.id, 0, 0.0f, z.range_m});
+    if (!(z.range_m > 0.0f)) return est::loop::StepOutcome::rejected;
+    x = 0.9f * x + 0.1f * z.range_m;
     return est::loop::StepOutcome::applied;
   }
   est::PoseEstimate estimate() const {
@@ -280,4 +287,81 @@ TEST_CASE("after a bus outage the motion up to a scan is taken from the next enc
   }
   CHECK(before_scan == 110 + 150);  // 11 increments of 10, and (250 - 100) / (400 - 100) of 300
   CHECK(total == 110 + 300);        // the rest after the scan: nothing lost, nothing twice
+}
+
+TEST_CASE("the features of a landmark sighting are fused after one prediction to their time, with one output",
+          "[loop]") {
+  RecordingEstimator est;
+  Loop loop(est, est::loop::LoopTiming{});
+  Outputs out;
+  SteadyClock clock;
+  loop.push(est::loop::WheelTicksInput{0, 0, 0});
+  loop.push(est::loop::WheelTicksInput{10 * kMs, 4, 4});
+  loop.push(est::loop::WheelTicksInput{20 * kMs, 6, 6});
+  float r[1] = {1.0f};
+  loop.push(est::loop::ScanInput{15 * kMs, est::ScanLayout{0.0f, 0.1f, 1, 0.1f, 10.0f}, r});
+  // Three features and a scan at 15 ms, arriving out of order.
+  loop.push(est::loop::LandmarkInput{15 * kMs, 3.0f, 0.1f, 0.0f, 2});
+  loop.push(est::loop::LandmarkInput{15 * kMs, 2.0f, 0.2f, 0.0f, 0});
+  loop.push(est::loop::LandmarkInput{15 * kMs, 4.0f, 0.3f, 0.0f, 1});
+  loop.flush(clock, out);
+  std::string kinds;
+  for (const auto& c : est.calls) kinds += c.kind;
+  CHECK(kinds == "ppclllp");  // predictions to 10 and 15 ms, the scan, the features, the prediction to 20 ms
+  std::vector<std::int32_t> ids;
+  for (const auto& c : est.calls)
+    if (c.kind == 'l') ids.push_back(c.left);
+  CHECK(ids == std::vector<std::int32_t>{0, 1, 2});  // by id, not by arrival
+  std::vector<TimeNs> times;
+  for (const auto& o : out.all) times.push_back(o.t_ns);
+  CHECK(times == std::vector<TimeNs>{10 * kMs, 15 * kMs, 20 * kMs});  // one output for the 15 ms corrections
+  CHECK(loop.counters().corrections == 4u);
+}
+
+namespace {
+struct ScanOnly : RecordingEstimator {
+  static constexpr bool kUsesLandmarks = false;
+};
+}  // namespace
+
+TEST_CASE("an input kind the filter does not use is counted as unused, not as a fault", "[loop]") {
+  ScanOnly est;
+  est::loop::FilterLoop<ScanOnly, 64, 8, 2> loop(est, est::loop::LoopTiming{});
+  Outputs out;
+  SteadyClock clock;
+  loop.push(est::loop::WheelTicksInput{0, 0, 0});
+  CHECK_FALSE(loop.push(est::loop::LandmarkInput{5 * kMs, 3.0f, 0.1f, 0.0f, 2}));
+  loop.push(est::loop::WheelTicksInput{10 * kMs, 1, 1});
+  loop.flush(clock, out);
+  CHECK(loop.counters().unused == 1u);
+  CHECK(loop.counters().rejected == 0u);
+  for (const auto& c : est.calls) CHECK(c.kind == 'p');
+  REQUIRE(!out.all.empty());
+  CHECK((out.all.back().status & (est::loop::status::kInputRejected | est::loop::status::kLandmarkTimeout)) == 0u);
+}
+
+TEST_CASE("a filter on landmarks reports stale sightings in the status word", "[loop]") {
+  RecordingEstimator est;
+  est::loop::LoopTiming timing;
+  timing.landmark_timeout_ns = 300 * kMs;
+  Loop loop(est, timing);
+  Outputs out;
+  SteadyClock clock;
+  for (int i = 0; i <= 100; ++i) {
+    loop.push(est::loop::WheelTicksInput{i * 10 * kMs, 1, 1});
+    if (i == 20) loop.push(est::loop::LandmarkInput{i * 10 * kMs, 3.0f, 0.1f, 0.0f, 0});
+    loop.run(clock, out);
+  }
+  loop.flush(clock, out);
+  auto status_at = [&](TimeNs t) {
+    for (const auto& o : out.all)
+      if (o.t_ns == t) return o.status;
+    FAIL("no output at " << t);
+    return 0u;
+  };
+  CHECK((status_at(100 * kMs) & est::loop::status::kLandmarkTimeout) != 0u);  // none yet
+  CHECK((status_at(200 * kMs) & est::loop::status::kLandmarkTimeout) == 0u);  // the sighting
+  CHECK((status_at(500 * kMs) & est::loop::status::kLandmarkTimeout) == 0u);  // 300 ms old: still within the limit
+  CHECK((status_at(510 * kMs) & est::loop::status::kLandmarkTimeout) != 0u);
+  CHECK(loop.counters().landmark_timeouts == 19u + 50u);  // outputs at 10..190 ms and 510..1000 ms
 }

@@ -1,6 +1,5 @@
 #include "est/filter/free_space_sampler.hpp"
-#include "est/loop/filter_loop.hpp"
-#include "est/loop/mcl_estimator.hpp"
+#include "est/loop/configured_loop.hpp"
 #include "est/map/distance_transform.hpp"
 #include "est/map/occupancy_grid.hpp"
 #include "est/map/ray_casting.hpp"
@@ -12,8 +11,19 @@
 namespace est::selftest {
 namespace {
 
-using Estimator = loop::MclEstimator<DiffDriveMotionModel, 256, 60>;
-using Loop = loop::FilterLoop<Estimator, 32, 60, 2>;
+// The firmware's configuration, as a board would state it.
+struct LoopConfig {
+  using Model = DiffDriveMotionModel;
+  static constexpr loop::Filter kFilter = loop::Filter::mcl;
+  static constexpr std::uint32_t kMaxParticles = 256;
+  static constexpr std::int32_t kMaxBeams = 60;
+  static constexpr std::uint32_t kQueueCapacity = 32;
+  static constexpr std::uint32_t kScanSlots = 2;
+  static constexpr loop::LoopTiming kTiming{};  // 100 Hz predictions, 20 ms reorder window, default limits
+};
+using Configured = loop::ConfiguredLoop<LoopConfig>;
+using Estimator = Configured::Estimator;
+using Loop = Configured::Loop;
 
 // 5 m x 4 m at 0.1 m: walls, an L-shaped partition and a box, so the scans constrain every direction.
 OccupancyGridStorage<50, 40> g_grid;
@@ -61,7 +71,7 @@ std::uint64_t section_loop() {
   const FreeSpaceSampler free_space(grid, g_edt.view(), 0.15f);
   const GridRayCaster caster(grid);
 
-  loop::MclEstimatorConfig<DiffDriveMotionModel> cfg;
+  Configured::EstimatorConfig cfg;
   cfg.motion.wheel_radius = 0.05f;
   cfg.motion.track_width = 0.3f;
   cfg.motion.ticks_per_rev = 1024u;
@@ -72,7 +82,7 @@ std::uint64_t section_loop() {
   // Locals (~60 KiB of stack): the estimator and the loop hold references, and every run starts afresh.
   Estimator estimator(cfg, 77u, g_field, free_space);
   estimator.initialize_at({1.0f, 1.0f, 0.0f}, 0.1f, 0.05f, 256u);
-  Loop lp(estimator, loop::LoopTiming{});
+  Loop lp(estimator, Configured::kTiming);
 
   Digest d;
   Sink sink{&d, 0u};

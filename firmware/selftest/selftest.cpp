@@ -17,6 +17,7 @@ constexpr Section kSections[] = {
     {"ekf", section_ekf, 0x9f2512c664b22560ull},
     {"mcl", section_mcl, 0x25e68dec342c542eull},
     {"loop", section_loop, 0x275c96dbff3ca68bull},
+    {"loop_ekf", section_loop_ekf, 0xf88f46bfa9fe531cull},
 };
 
 }  // namespace

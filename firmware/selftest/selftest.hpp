@@ -35,5 +35,6 @@ std::uint64_t section_motion_a();
 std::uint64_t section_ekf();
 std::uint64_t section_mcl();
 std::uint64_t section_loop();
+std::uint64_t section_loop_ekf();
 
 }  // namespace est::selftest

@@ -16,6 +16,7 @@ inline constexpr std::uint32_t kDeadlineOverrun = est::loop::status::kDeadlineOv
 inline constexpr std::uint32_t kNotInitialized = est::loop::status::kNotInitialized;
 inline constexpr std::uint32_t kInputTooOld = est::loop::status::kInputTooOld;
 inline constexpr std::uint32_t kQueueFull = est::loop::status::kQueueFull;
+inline constexpr std::uint32_t kLandmarkTimeout = est::loop::status::kLandmarkTimeout;
 
 // Transports.
 inline constexpr std::uint32_t kCanLinkDown = 1u << 16;       // interface missing or down; reconnecting

@@ -5,11 +5,17 @@
 // accumulated since the last prediction; each scan is applied at its own time, after a prediction up to that time.
 // The clock is read only to time each step (deadline overruns are counted, results never depend on it).
 //
-// Estimator concept (adapters in est/loop/*_estimator.hpp):
-//   static constexpr bool kUsesSteering, kUsesScans;
+// Corrections (scans, landmark features) are applied at their own time after a prediction up to it; the output for
+// a time is published once, after every input stamped with it.
+//
+// Estimator concept (adapters in est/loop/*_estimator.hpp; est/loop/configured_loop.hpp picks one):
+//   static constexpr bool kUsesSteering, kUsesScans, kUsesLandmarks;
 //   StepOutcome predict(const MotionInput&);
-//   StepOutcome correct(const ScanInput&);
+//   StepOutcome correct(const ScanInput&);       only if kUsesScans
+//   StepOutcome correct(const LandmarkInput&);   only if kUsesLandmarks
 //   PoseEstimate estimate() const;
+// Inputs of a kind the estimator does not use (a lidar on the bus of an EKF on landmarks) are counted as unused and
+// dropped when pushed: not a fault, no status bit.
 #include <cstdint>
 
 #include "est/filter/particle_estimate.hpp"
@@ -25,6 +31,7 @@ struct LoopTiming {
   TimeNs encoder_timeout_ns = 100000000;   // staleness limits
   TimeNs steering_timeout_ns = 100000000;
   TimeNs scan_timeout_ns = 500000000;
+  TimeNs landmark_timeout_ns = 1000000000;
   TimeNs step_deadline_ns = 5000000;       // budget of one predict or correct step, as measured by the clock
   std::uint32_t max_catch_up_predictions = 100;  // after a longer gap in the inputs, the loop jumps (one prediction)
 };
@@ -54,6 +61,10 @@ class FilterLoop {
   // Queue an input. False (and counted) when it is older than what was already applied, or there is no room.
   template <typename Input>
   bool push(const Input& in) {
+    if (!uses(in)) {
+      ++counters_.unused;
+      return false;
+    }
     if (applied_any_ && in.t_ns < applied_t_) {
       ++counters_.too_old;
       sticky_ |= status::kInputTooOld;
@@ -114,22 +125,45 @@ class FilterLoop {
         have_steering_ = true;
         queue_.pop();
         break;
-      case InputKind::scan: {
-        take_motion_until(t);
-        if (t > last_predict_t_) predict_to(clock, t);
-        const TimeNs t0 = clock();
-        const StepOutcome o = est_.correct(queue_.scan(q));
-        account(o, clock() - t0);
-        if (o != StepOutcome::rejected) ++counters_.corrections;
-        last_scan_t_ = t;
-        have_scan_ = true;
+      case InputKind::scan:
+        if constexpr (Estimator::kUsesScans) {
+          correct_at(clock, t, queue_.scan(q));
+          last_scan_t_ = t;
+          have_scan_ = true;
+        }
         queue_.pop();
-        publish(sink, t);
         break;
-      }
+      case InputKind::landmark:
+        if constexpr (Estimator::kUsesLandmarks) {
+          correct_at(clock, t, q.landmark);
+          last_landmark_t_ = t;
+          have_landmark_ = true;
+        }
+        queue_.pop();
+        break;
     }
-    // The prediction at t itself waits while more inputs stamped t are queued (a scan at t publishes for it).
-    if (queue_.empty() || queue_.front_time() > t) advance_predictions(clock, sink, t, true);
+    // The output at t and the prediction at t itself wait while more inputs stamped t are queued.
+    if (queue_.empty() || queue_.front_time() > t) {
+      if (corrected_) publish(sink, t);
+      corrected_ = false;
+      advance_predictions(clock, sink, t, true);
+    }
+  }
+
+  static constexpr bool uses(const WheelTicksInput&) { return true; }
+  static constexpr bool uses(const SteeringInput&) { return true; }
+  static constexpr bool uses(const ScanInput&) { return Estimator::kUsesScans; }
+  static constexpr bool uses(const LandmarkInput&) { return Estimator::kUsesLandmarks; }
+
+  template <typename Clock, typename Measurement>
+  void correct_at(Clock& clock, TimeNs t, const Measurement& z) {
+    take_motion_until(t);
+    if (t > last_predict_t_) predict_to(clock, t);
+    const TimeNs t0 = clock();
+    const StepOutcome o = est_.correct(z);
+    account(o, clock() - t0);
+    if (o != StepOutcome::rejected) ++counters_.corrections;
+    corrected_ = true;
   }
 
   // Fixed-rate predictions up to t (inclusive or not), each followed by an output; a prediction time a scan already
@@ -213,6 +247,10 @@ class FilterLoop {
       s |= status::kScanTimeout;
       ++counters_.scan_timeouts;
     }
+    if (Estimator::kUsesLandmarks && (!have_landmark_ || t - last_landmark_t_ > timing_.landmark_timeout_ns)) {
+      s |= status::kLandmarkTimeout;
+      ++counters_.landmark_timeouts;
+    }
     sink(LoopOutput{t, est_.estimate(), s, &counters_});
     sticky_ = 0;
     published_any_ = true;
@@ -225,9 +263,10 @@ class FilterLoop {
   LoopCounters counters_;
   std::uint32_t sticky_ = 0;
   bool seen_any_ = false, applied_any_ = false;
-  bool have_encoder_ = false, have_steering_ = false, have_scan_ = false;
+  bool have_encoder_ = false, have_steering_ = false, have_scan_ = false, have_landmark_ = false;
+  bool corrected_ = false;  // a correction at the time being applied: publish once all its inputs are in
   TimeNs newest_t_ = 0, applied_t_ = 0, last_predict_t_ = 0, next_predict_t_ = 0;
-  TimeNs last_encoder_t_ = 0, last_steering_t_ = 0, last_scan_t_ = 0;
+  TimeNs last_encoder_t_ = 0, last_steering_t_ = 0, last_scan_t_ = 0, last_landmark_t_ = 0;
   TimeNs ticks_until_t_ = 0;
   TimeNs last_published_t_ = 0;
   bool published_any_ = false;  // the encoder motion up to this time is in pending_ or already predicted

@@ -1,14 +1,16 @@
 #pragma once
 // Pending inputs in timestamp order, statically sized: Capacity events, of which at most ScanSlots scans of at
-// most KMax readings. Ties in time are ordered by kind (encoders, steering, scan) and then by arrival, so the same
-// inputs give the same order whatever order they arrived in within the reorder window.
+// most KMax readings. Ties in time are ordered by kind (encoders, steering, scan, landmark), the features of one
+// landmark sighting by their content (id, range, bearing, signature), and then by arrival, so the same inputs give
+// the same order whatever order they arrived in within the reorder window (an EKF's result depends on the order
+// features are fused in).
 #include <cstdint>
 
 #include "est/loop/inputs.hpp"
 
 namespace est::loop {
 
-enum class InputKind : std::uint8_t { wheel_ticks = 0, steering = 1, scan = 2 };
+enum class InputKind : std::uint8_t { wheel_ticks = 0, steering = 1, scan = 2, landmark = 3 };
 
 struct QueuedInput {
   InputKind kind;
@@ -16,6 +18,7 @@ struct QueuedInput {
   std::uint32_t arrival;  // tie-break among equal (t, kind)
   WheelTicksInput ticks;
   SteeringInput steering;
+  LandmarkInput landmark;
   std::uint8_t scan_slot;  // index into the scan slots for kind == scan
 };
 
@@ -42,6 +45,13 @@ class InputQueue {
     q.kind = InputKind::steering;
     q.t_ns = in.t_ns;
     q.steering = in;
+    return insert(q);
+  }
+  bool push(const LandmarkInput& in) {
+    QueuedInput q{};
+    q.kind = InputKind::landmark;
+    q.t_ns = in.t_ns;
+    q.landmark = in;
     return insert(q);
   }
   // Copies the readings. False when the queue or the scan slots are full, or the scan has more than KMax readings.
@@ -91,6 +101,14 @@ class InputQueue {
   static bool before(const QueuedInput& a, const QueuedInput& b) {
     if (a.t_ns != b.t_ns) return a.t_ns < b.t_ns;
     if (a.kind != b.kind) return a.kind < b.kind;
+    if (a.kind == InputKind::landmark) {
+      const LandmarkInput& x = a.landmark;
+      const LandmarkInput& y = b.landmark;
+      if (x.id != y.id) return x.id < y.id;
+      if (x.range_m != y.range_m) return x.range_m < y.range_m;  // a NaN one stays where it arrived (it is rejected)
+      if (x.bearing_rad != y.bearing_rad) return x.bearing_rad < y.bearing_rad;
+      if (x.signature != y.signature) return x.signature < y.signature;
+    }
     return a.arrival < b.arrival;
   }
 

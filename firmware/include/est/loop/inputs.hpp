@@ -28,4 +28,15 @@ struct ScanInput {
   const float* ranges = nullptr;
 };
 
+// One feature of a landmark sensor (Thrun eq. 6.40: range, bearing in the robot frame, signature). `id` is the
+// landmark's index in the map when the sensor knows the correspondence (table 7.2), -1 when the filter must find it
+// by maximum likelihood (table 7.3). A sighting of several features is several inputs with the same stamp.
+struct LandmarkInput {
+  TimeNs t_ns = 0;
+  float range_m = 0.0f;
+  float bearing_rad = 0.0f;
+  float signature = 0.0f;
+  std::int32_t id = -1;
+};
+
 }  // namespace est::loop

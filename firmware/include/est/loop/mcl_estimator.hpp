@@ -34,6 +34,7 @@ class MclEstimator {
  public:
   static constexpr bool kUsesSteering = OdometryControl<Model>::kUsesSteering;
   static constexpr bool kUsesScans = true;
+  static constexpr bool kUsesLandmarks = false;
 
   // `field_grid`, if not null, must be tabulated from `field` over the same map.
   MclEstimator(const MclEstimatorConfig<Model>& config, std::uint64_t seed, const LikelihoodField& field,

@@ -14,6 +14,7 @@ inline constexpr std::uint32_t kDeadlineOverrun = 1u << 5;   // a step took long
 inline constexpr std::uint32_t kNotInitialized = 1u << 6;
 inline constexpr std::uint32_t kInputTooOld = 1u << 7;       // older than the reorder window: dropped
 inline constexpr std::uint32_t kQueueFull = 1u << 8;         // more pending inputs than the queue holds: dropped
+inline constexpr std::uint32_t kLandmarkTimeout = 1u << 9;   // no landmark sighting within its staleness limit
 inline constexpr std::uint32_t kMask = 0x0000ffffu;
 }  // namespace status
 
@@ -29,6 +30,8 @@ struct LoopCounters {
   std::uint32_t encoder_timeouts = 0; // outputs published while the encoders were stale
   std::uint32_t steering_timeouts = 0;
   std::uint32_t scan_timeouts = 0;
+  std::uint32_t landmark_timeouts = 0;
+  std::uint32_t unused = 0;           // dropped: a kind of input the configured filter does not use (not a fault)
   std::int64_t worst_step_ns = 0;     // longest step measured through the clock
 };
 

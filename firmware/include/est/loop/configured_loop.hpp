@@ -1,0 +1,62 @@
+#pragma once
+// The firmware's configuration in one static struct: the robot model, the filter (MCL or EKF), the capacities, and
+// the loop's rates and staleness limits. ConfiguredLoop<Config> turns it into the estimator and loop types:
+//
+//   struct RigConfig {
+//     using Model = est::BicycleMotionModel;                    // or DiffDriveMotionModel
+//     static constexpr est::loop::Filter kFilter = est::loop::Filter::mcl;
+//     static constexpr std::uint32_t kMaxParticles = 2048;      // MCL only
+//     static constexpr std::int32_t kMaxBeams = 360;            // scan capacity (an EKF rig: 1, it drops scans)
+//     static constexpr std::uint32_t kQueueCapacity = 64;       // inputs pending within the reorder window
+//     static constexpr std::uint32_t kScanSlots = 2;
+//     static constexpr est::loop::LoopTiming kTiming{10'000'000, 20'000'000, ...};  // 100 Hz predict, limits
+//   };
+//   using Rig = est::loop::ConfiguredLoop<RigConfig>;
+//   Rig::Estimator estimator(estimator_config, ...);   // MclEstimator<Model, N, K> or EkfEstimator<Model>
+//   Rig::Loop loop(estimator, RigConfig::kTiming);
+//
+// Corrections run at the rate their inputs arrive (a scan or a landmark sighting each); predictions at
+// kTiming.predict_period_ns of input time. The estimator's own parameters (noise, map) stay run-time values: they
+// come from calibration, and the EKF's are Eigen matrices.
+#include <cstdint>
+#include <type_traits>
+
+#include "est/loop/ekf_estimator.hpp"
+#include "est/loop/filter_loop.hpp"
+#include "est/loop/mcl_estimator.hpp"
+
+namespace est::loop {
+
+enum class Filter : std::uint8_t { mcl, ekf };
+
+namespace detail {
+template <typename Config, Filter F>
+struct EstimatorOf;
+template <typename Config>
+struct EstimatorOf<Config, Filter::mcl> {
+  using type = MclEstimator<typename Config::Model, Config::kMaxParticles, Config::kMaxBeams>;
+  using config = MclEstimatorConfig<typename Config::Model>;
+};
+template <typename Config>
+struct EstimatorOf<Config, Filter::ekf> {  // kMaxParticles is not needed
+  using type = EkfEstimator<typename Config::Model>;
+  using config = EkfEstimatorConfig<typename Config::Model>;
+};
+}  // namespace detail
+
+template <typename Config>
+struct ConfiguredLoop {
+  using Model = typename Config::Model;
+  static constexpr Filter kFilter = Config::kFilter;
+  static_assert(Config::kQueueCapacity >= 2u && Config::kMaxBeams > 0 && Config::kScanSlots >= 1u,
+                "capacities must be positive");
+  static_assert(Config::kTiming.predict_period_ns > 0 && Config::kTiming.reorder_window_ns >= 0,
+                "the predict period must be positive and the reorder window not negative");
+
+  using Estimator = typename detail::EstimatorOf<Config, kFilter>::type;
+  using EstimatorConfig = typename detail::EstimatorOf<Config, kFilter>::config;
+  using Loop = FilterLoop<Estimator, Config::kQueueCapacity, Config::kMaxBeams, Config::kScanSlots>;
+  static constexpr LoopTiming kTiming = Config::kTiming;
+};
+
+}  // namespace est::loop
