@@ -20,6 +20,7 @@ struct Recorder final : hal::SensorPort {
   void on_wheel_ticks(const hal::WheelTicks& s) override { wheels.push_back(s); }
   void on_steering(const hal::SteeringSample& s) override { steering.push_back(s); }
   void on_range_scan(const hal::RangeScanView& s) override { scans.push_back(s.count); }
+  void on_landmarks(const hal::LandmarkSightingView&) override {}
 };
 
 CanFrame wheel_frame(std::uint16_t l, std::uint16_t r, std::uint8_t counter) {
@@ -107,6 +108,7 @@ TEST_CASE("through the HAL gate: out-of-range steering, time going backwards and
     void on_wheel_motion(const hal::WheelTickDelta&) override { ++motion; }
     void on_steering(const hal::SteeringSample&) override { ++steering; }
     void on_range_scan(const hal::RangeScanView&) override {}
+    void on_landmarks(const hal::LandmarkSightingView&) override {}
   } sink;
   hal::InputLimits limits;
   limits.wheels.counter_bits = kCanWheelCounterBits;

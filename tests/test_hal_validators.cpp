@@ -33,9 +33,13 @@ struct Recorder final : hal::ValidatedSensorPort {
   std::vector<hal::WheelTickDelta> motion;
   std::vector<hal::SteeringSample> steering;
   std::vector<std::size_t> scans;
+  std::vector<std::vector<hal::LandmarkFeature>> sightings;
   void on_wheel_motion(const hal::WheelTickDelta& d) override { motion.push_back(d); }
   void on_steering(const hal::SteeringSample& s) override { steering.push_back(s); }
   void on_range_scan(const hal::RangeScanView& s) override { scans.push_back(s.count); }
+  void on_landmarks(const hal::LandmarkSightingView& s) override {
+    sightings.emplace_back(s.features, s.features + s.count);
+  }
 };
 
 hal::ScanGeometry lidar() { return {-1.5f, 0.01f, 0.1f, 30.0f, 0.1f}; }
@@ -217,6 +221,62 @@ TEST_CASE("ValidatedInputs passes good samples on and counts every reject by rea
   CHECK(f[Fault::duplicate] == 1);
   CHECK(f[Fault::stale] == 1);
   CHECK(f.total() == 4);
+}
+
+TEST_CASE("landmark sightings: bad features are dropped and counted, the good ones pass with the stamp",
+          "[hal][landmarks]") {
+  hal::LandmarkLimits limits;
+  limits.max_range_m = 20.0f;
+  limits.max_id = 99;
+  hal::LandmarkValidator v(limits);
+  hal::LandmarkSighting<hal::kMaxLandmarkFeatures> out;
+  const hal::LandmarkFeature f[9] = {
+      {3.0f, 0.5f, 1.0f, 2},      // good, known correspondence
+      {kNaN, 0.5f, 1.0f, 2},      // not finite
+      {3.0f, kInf, 1.0f, -1},     // not finite
+      {3.0f, 0.5f, kNaN, -1},     // not finite signature
+      {-1.0f, 0.5f, 1.0f, -1},    // negative range
+      {25.0f, 0.5f, 1.0f, -1},    // beyond the sensor's reach
+      {3.0f, 3.5f, 1.0f, -1},     // bearing outside (-pi, pi]
+      {3.0f, 0.5f, 1.0f, 100},    // no such map index
+      {19.0f, -3.1f, 0.0f, -1}};  // good, correspondence unknown
+  REQUIRE(v.check({100 * kNsPerMs, f, 9}, 100 * kNsPerMs, out) == Fault::none);
+  REQUIRE(out.count == 2u);
+  CHECK(out.stamp_ns == 100 * kNsPerMs);
+  CHECK(out.features[0].id == 2);
+  CHECK(out.features[1].range_m == 19.0f);
+  CHECK(v.faults()[Fault::not_finite] == 3);
+  CHECK(v.faults()[Fault::out_of_range] == 4);
+  CHECK(v.features_accepted() == 2u);
+
+  // Whole sightings: empty, too many, no pointer, timing, nothing good left.
+  CHECK(v.check({110 * kNsPerMs, f, 0}, 110 * kNsPerMs, out) == Fault::out_of_range);
+  CHECK(v.check({110 * kNsPerMs, f, hal::kMaxLandmarkFeatures + 1}, 110 * kNsPerMs, out) == Fault::out_of_range);
+  CHECK(v.check({110 * kNsPerMs, nullptr, 1}, 110 * kNsPerMs, out) == Fault::out_of_range);
+  CHECK(v.check({100 * kNsPerMs, f, 1}, 110 * kNsPerMs, out) == Fault::duplicate);
+  CHECK(v.check({90 * kNsPerMs, f, 1}, 110 * kNsPerMs, out) == Fault::time_backwards);
+  CHECK(v.check({1000 * kNsPerMs, f, 1}, 110 * kNsPerMs, out) == Fault::from_future);
+  CHECK(v.check({110 * kNsPerMs, f + 1, 1}, 2000 * kNsPerMs, out) == Fault::stale);
+  CHECK(v.check({120 * kNsPerMs, f + 1, 2}, 120 * kNsPerMs, out) == Fault::out_of_range);
+  CHECK(out.count == 0u);
+  CHECK(v.faults()[Fault::not_finite] == 5);  // the last sighting's two features
+  CHECK(v.faults().total() == 3 + 4 + 3 + 4 + 2);
+}
+
+TEST_CASE("ValidatedInputs passes checked landmark sightings on and counts their faults", "[hal][gate]") {
+  FakeClock clock;
+  Recorder out;
+  hal::ValidatedInputs in(hal::InputLimits{}, clock, out);
+  clock.now = 100 * kNsPerMs;
+  const hal::LandmarkFeature f[2] = {{3.0f, 0.5f, 1.0f, 2}, {kNaN, 0.5f, 1.0f, 2}};
+  in.on_landmarks({100 * kNsPerMs, f, 2});
+  in.on_landmarks({100 * kNsPerMs, f, 2});  // duplicate
+  REQUIRE(out.sightings.size() == 1u);
+  REQUIRE(out.sightings[0].size() == 1u);
+  CHECK(out.sightings[0][0].range_m == 3.0f);
+  CHECK(in.faults()[Fault::not_finite] == 1);
+  CHECK(in.faults()[Fault::duplicate] == 1);
+  CHECK(in.landmarks().faults().total() == 2);
 }
 
 TEST_CASE("fault counters saturate instead of wrapping", "[hal]") {

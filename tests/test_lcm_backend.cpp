@@ -22,11 +22,17 @@ struct Recorder final : hal::SensorPort, hal::TeamPort {
   std::vector<std::vector<float>> scans;
   std::vector<hal::ScanGeometry> geometry;
   std::vector<hal::TeamMessage> team;
+  std::vector<std::vector<hal::LandmarkFeature>> sightings;
+  std::vector<hal::TimeNs> sighting_stamps;
   void on_wheel_ticks(const hal::WheelTicks& s) override { wheels.push_back(s); }
   void on_steering(const hal::SteeringSample& s) override { steering.push_back(s); }
   void on_range_scan(const hal::RangeScanView& s) override {
     scans.emplace_back(s.ranges, s.ranges + s.count);
     geometry.push_back(s.geometry);
+  }
+  void on_landmarks(const hal::LandmarkSightingView& s) override {
+    sightings.emplace_back(s.features, s.features + s.count);
+    sighting_stamps.push_back(s.stamp_ns);
   }
   void on_team_message(const hal::TeamMessage& m) override { team.push_back(m); }
 };
@@ -42,6 +48,7 @@ hal::lcm::InputConfig custom_channels() {
   c.channels.steering = "ROBOT7/STEER";
   c.channels.range_scan = "ROBOT7/LIDAR";
   c.channels.team = "TEAM";
+  c.channels.landmarks = "ROBOT7/MARKERS";
   c.wheel_counter_bits = 16;
   c.max_ranges = 1081;
   return c;
@@ -97,6 +104,9 @@ TEST_CASE("sensor inputs on configured channels reach the SensorPort as HAL samp
   t.measurements[1] = {hal::TeamTarget::robot, 2.5f, -1.0f, 1};
   const est_lcm::team_message_t team = hal::lcm::to_lcm(t);
   lcm.publish("TEAM", &team);
+  const hal::LandmarkFeature features[2] = {{4.0f, 0.5f, 12.0f, 3}, {2.5f, -1.0f, 0.25f, -1}};
+  const est_lcm::landmark_sighting_t markers = hal::lcm::to_lcm(hal::LandmarkSightingView{800, features, 2});
+  lcm.publish("ROBOT7/MARKERS", &markers);
   lcm.publish("EST_STEERING", &steer);  // the default name is not subscribed any more
   pump(lcm);
 
@@ -115,7 +125,15 @@ TEST_CASE("sensor inputs on configured channels reach the SensorPort as HAL samp
   CHECK(port.team[0].count == 2);
   CHECK(port.team[0].measurements[1].type == hal::TeamTarget::robot);
   CHECK(port.team[0].measurements[0].target_id == 12);
-  CHECK(in.accepted() == 4);
+  REQUIRE(port.sightings.size() == 1);
+  CHECK(port.sighting_stamps[0] == 800);
+  REQUIRE(port.sightings[0].size() == 2);
+  CHECK(port.sightings[0][0].range_m == 4.0f);
+  CHECK(port.sightings[0][0].id == 3);
+  CHECK(port.sightings[0][1].bearing_rad == -1.0f);
+  CHECK(port.sightings[0][1].signature == 0.25f);
+  CHECK(port.sightings[0][1].id == -1);
+  CHECK(in.accepted() == 5);
   CHECK(in.rejects().total() == 0);
 }
 
@@ -212,8 +230,16 @@ TEST_CASE("garbage, truncated and wrong-type payloads are malformed; bad counts 
   ticks.num_wheels = 5;
   ticks.count.push_back(0);
   lcm.publish("ROBOT7/ODOM_TICKS", &ticks);
+  hal::LandmarkFeature many[hal::kMaxLandmarkFeatures + 1] = {};
+  std::vector<std::uint8_t> too_many = bytes_of(hal::lcm::to_lcm(hal::LandmarkSightingView{1, many, 3}));
+  too_many[8] = 0;
+  too_many[9] = static_cast<std::uint8_t>(hal::kMaxLandmarkFeatures + 1);  // above what the receiver holds
+  lcm.publish("ROBOT7/MARKERS", too_many.data(), static_cast<unsigned>(too_many.size()));
+  too_many[8] = 0xff;
+  too_many[9] = 0xff;  // -1
+  lcm.publish("ROBOT7/MARKERS", too_many.data(), static_cast<unsigned>(too_many.size()));
   pump(lcm);
-  CHECK(in.rejects()[LcmReject::bad_count] == 4);
+  CHECK(in.rejects()[LcmReject::bad_count] == 6);
 
   ticks = hal::lcm::to_lcm(five, 32);  // a 32-bit counter where 16 bits are configured
   lcm.publish("ROBOT7/ODOM_TICKS", &ticks);
@@ -237,6 +263,7 @@ TEST_CASE("garbage, truncated and wrong-type payloads are malformed; bad counts 
   CHECK(port.steering.empty());
   CHECK(port.scans.empty());
   CHECK(port.team.empty());
+  CHECK(port.sightings.empty());
 }
 
 TEST_CASE("a negative count after the first array of status_t is malformed, not a crash", "[lcm]") {
@@ -267,6 +294,7 @@ TEST_CASE("through the HAL gate: NaN steering, a NaN scan geometry and time goin
     void on_wheel_motion(const hal::WheelTickDelta&) override { ++n; }
     void on_steering(const hal::SteeringSample&) override { ++n; }
     void on_range_scan(const hal::RangeScanView&) override { ++n; }
+    void on_landmarks(const hal::LandmarkSightingView&) override { ++n; }
   } sink;
   hal::InputLimits limits;
   limits.scan.min_valid_beams = 1;

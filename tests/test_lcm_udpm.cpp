@@ -15,6 +15,7 @@ struct Recorder final : hal::SensorPort {
   void on_wheel_ticks(const hal::WheelTicks&) override {}
   void on_steering(const hal::SteeringSample& s) override { steering.push_back(s); }
   void on_range_scan(const hal::RangeScanView& s) override { scans.push_back(s.count); }
+  void on_landmarks(const hal::LandmarkSightingView&) override {}
 };
 }  // namespace
 

@@ -18,7 +18,9 @@ constexpr TimeNs kMs = hal::kNsPerMs;
 struct FakeEstimator {
   static constexpr bool kUsesSteering = true;
   static constexpr bool kUsesScans = true;
+  static constexpr bool kUsesLandmarks = true;
   std::vector<est::loop::MotionInput> predictions;
+  std::vector<est::loop::LandmarkInput> features;
   std::vector<est::ScanLayout> scans;
   std::vector<float> first_ranges;
   float x = 0.0f;
@@ -31,6 +33,10 @@ struct FakeEstimator {
   est::loop::StepOutcome correct(const est::loop::ScanInput& s) {
     scans.push_back(s.layout);
     first_ranges.push_back(s.ranges[0]);
+    return est::loop::StepOutcome::applied;
+  }
+  est::loop::StepOutcome correct(const est::loop::LandmarkInput& z) {
+    features.push_back(z);
     return est::loop::StepOutcome::applied;
   }
   est::PoseEstimate estimate() const {
@@ -101,6 +107,28 @@ TEST_CASE("HAL samples become the loop's inputs exactly", "[loop_port]") {
   CHECK(in.layout.range_min == 0.05f);
   CHECK(in.layout.range_max == 12.0f);
   CHECK(in.ranges == ranges);  // not copied here: the loop's queue copies
+
+  const est::loop::LandmarkInput z = hal::to_loop_input(99, hal::LandmarkFeature{4.5f, -0.25f, 7.0f, 3});
+  CHECK(z.t_ns == 99);
+  CHECK(z.range_m == 4.5f);
+  CHECK(z.bearing_rad == -0.25f);
+  CHECK(z.signature == 7.0f);
+  CHECK(z.id == 3);
+}
+
+TEST_CASE("every feature of a sighting reaches the filter, with the sighting's stamp", "[loop_port]") {
+  Rig rig;
+  rig.step(0);
+  const hal::LandmarkFeature f[3] = {{3.0f, 0.1f, 1.0f, 2}, {2.0f, -0.4f, 2.0f, -1}, {5.0f, 1.0f, 3.0f, 0}};
+  rig.port.on_landmarks(hal::LandmarkSightingView{15 * kMs, f, 3});
+  for (int k = 1; k <= 5; ++k) rig.step(k);
+  REQUIRE(rig.est.features.size() == 3u);
+  for (const auto& z : rig.est.features) CHECK(z.t_ns == 15 * kMs);
+  // Fused by id (the loop's fixed order), whatever order the sensor listed them in.
+  CHECK(rig.est.features[0].id == -1);
+  CHECK(rig.est.features[1].id == 0);
+  CHECK(rig.est.features[2].id == 2);
+  CHECK(rig.est.features[2].range_m == 3.0f);
 }
 
 TEST_CASE("the loop runs after every input and every tick reaches a prediction", "[loop_port]") {

@@ -300,6 +300,7 @@ TEST_CASE("record writes an LCM log with every message, which replays through th
     void on_wheel_motion(const hal::WheelTickDelta&) override {}
     void on_steering(const hal::SteeringSample&) override {}
     void on_range_scan(const hal::RangeScanView&) override {}
+    void on_landmarks(const hal::LandmarkSightingView&) override {}
   } sink;
   struct EventClock final : hal::Clock {
     hal::TimeNs now = 0;

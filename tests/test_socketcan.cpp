@@ -110,6 +110,7 @@ struct Recorder final : hal::SensorPort {
   void on_wheel_ticks(const hal::WheelTicks& s) override { wheels.push_back(s); }
   void on_steering(const hal::SteeringSample& s) override { steering.push_back(s); }
   void on_range_scan(const hal::RangeScanView& s) override { scans.push_back(s.count); }
+  void on_landmarks(const hal::LandmarkSightingView&) override {}
 };
 
 // Writes one raw frame (error frames included) on vcan0 from a socket of its own.

@@ -9,6 +9,7 @@ LcmInputs::LcmInputs(::lcm::LCM& lcm, InputConfig config, SensorPort& port, Team
   subscriptions_.push_back(lcm_.subscribe(ch.wheel_ticks, &LcmInputs::on_wheel_ticks, this));
   subscriptions_.push_back(lcm_.subscribe(ch.steering, &LcmInputs::on_steering, this));
   subscriptions_.push_back(lcm_.subscribe(ch.range_scan, &LcmInputs::on_range_scan, this));
+  subscriptions_.push_back(lcm_.subscribe(ch.landmarks, &LcmInputs::on_landmarks, this));
   if (team_ != nullptr) subscriptions_.push_back(lcm_.subscribe(ch.team, &LcmInputs::on_team, this));
 }
 
@@ -45,6 +46,13 @@ void LcmInputs::on_range_scan(const ::lcm::ReceiveBuffer* rbuf, const std::strin
   LcmReject r = decode_guarded(rbuf->data, rbuf->data_size, m, static_cast<std::int64_t>(config_.max_ranges));
   if (r == LcmReject::none) r = to_hal(m, view);
   if (note(r)) port_.on_range_scan(view);
+}
+
+void LcmInputs::on_landmarks(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {
+  est_lcm::landmark_sighting_t m{};
+  LcmReject r = decode_guarded(rbuf->data, rbuf->data_size, m, static_cast<std::int64_t>(kMaxLandmarkFeatures));
+  if (r == LcmReject::none) r = to_hal(m, sighting_);
+  if (note(r)) port_.on_landmarks(sighting_.view());
 }
 
 void LcmInputs::on_team(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {

@@ -14,6 +14,7 @@ template <> struct LeadingCount<est_lcm::range_scan_t> { static constexpr int by
 template <> struct LeadingCount<est_lcm::particle_cloud_t> { static constexpr int bytes = 4; };
 template <> struct LeadingCount<est_lcm::status_t> { static constexpr int bytes = 2; };
 template <> struct LeadingCount<est_lcm::team_message_t> { static constexpr int bytes = 2; };
+template <> struct LeadingCount<est_lcm::landmark_sighting_t> { static constexpr int bytes = 2; };
 
 // Big-endian signed integer of `bytes` bytes after the 8-byte type fingerprint.
 bool read_leading_count(const unsigned char* p, std::size_t size, int bytes, std::int64_t& count) {
@@ -67,6 +68,7 @@ template LcmReject decode_guarded(const void*, std::size_t, est_lcm::particle_cl
 template LcmReject decode_guarded(const void*, std::size_t, est_lcm::status_t&, std::int64_t);
 template LcmReject decode_guarded(const void*, std::size_t, est_lcm::ground_truth_t&, std::int64_t);
 template LcmReject decode_guarded(const void*, std::size_t, est_lcm::team_message_t&, std::int64_t);
+template LcmReject decode_guarded(const void*, std::size_t, est_lcm::landmark_sighting_t&, std::int64_t);
 
 LcmReject to_hal(const est_lcm::encoder_ticks_t& m, unsigned expected_counter_bits, WheelTicks& out) {
   if (m.num_wheels < 1 || static_cast<std::size_t>(m.num_wheels) > kMaxWheels ||
@@ -112,6 +114,31 @@ LcmReject to_hal(const est_lcm::team_message_t& m, TeamMessage& out, Fault& cont
   }
   content = check_team_message(out);
   return content == Fault::none ? LcmReject::none : LcmReject::bad_value;
+}
+
+LcmReject to_hal(const est_lcm::landmark_sighting_t& m, LandmarkSighting<kMaxLandmarkFeatures>& out) {
+  const auto n = static_cast<std::size_t>(m.num_features < 0 ? 0 : m.num_features);
+  if (m.num_features < 0 || n > kMaxLandmarkFeatures || m.range_m.size() != n || m.bearing_rad.size() != n ||
+      m.signature.size() != n || m.id.size() != n)
+    return LcmReject::bad_count;
+  out.stamp_ns = m.stamp_ns;
+  out.count = n;
+  for (std::size_t i = 0; i < n; ++i) out.features[i] = {m.range_m[i], m.bearing_rad[i], m.signature[i], m.id[i]};
+  return LcmReject::none;
+}
+
+est_lcm::landmark_sighting_t to_lcm(const LandmarkSightingView& s) {
+  est_lcm::landmark_sighting_t m{};
+  m.stamp_ns = s.stamp_ns;
+  const std::size_t n = s.count < kMaxLandmarkFeatures ? s.count : kMaxLandmarkFeatures;
+  for (std::size_t i = 0; i < n; ++i) {
+    m.range_m.push_back(s.features[i].range_m);
+    m.bearing_rad.push_back(s.features[i].bearing_rad);
+    m.signature.push_back(s.features[i].signature);
+    m.id.push_back(s.features[i].id);
+  }
+  m.num_features = static_cast<std::int16_t>(n);
+  return m;
 }
 
 est_lcm::encoder_ticks_t to_lcm(const WheelTicks& s, unsigned counter_bits) {

@@ -1,4 +1,5 @@
 // The HAL validators (hal/*_validator.hpp) and the gate that applies them (hal/validated_inputs.hpp).
+#include "hal/landmark_validator.hpp"
 #include "hal/range_scan_validator.hpp"
 #include "hal/steering_validator.hpp"
 #include "hal/validated_inputs.hpp"
@@ -113,6 +114,36 @@ Fault RangeScanValidator::check(const RangeScanView& scan, TimeNs now_ns) {
   return Fault::none;
 }
 
+Fault LandmarkValidator::check_feature(const LandmarkFeature& f) const {
+  if (!finite(f.range_m) || !finite(f.bearing_rad) || !finite(f.signature)) return Fault::not_finite;
+  if (!(f.range_m > 0.0f) || f.range_m > limits_.max_range_m) return Fault::out_of_range;
+  if (f.bearing_rad > 3.14159274f || f.bearing_rad < -3.14159274f) return Fault::out_of_range;
+  if (f.id < -1 || f.id > limits_.max_id) return Fault::out_of_range;
+  return Fault::none;
+}
+
+Fault LandmarkValidator::check(const LandmarkSightingView& sighting, TimeNs now_ns,
+                               LandmarkSighting<kMaxLandmarkFeatures>& out) {
+  out.count = 0;
+  out.stamp_ns = sighting.stamp_ns;
+  if (sighting.count == 0 || sighting.count > limits_.max_features || sighting.count > kMaxLandmarkFeatures ||
+      sighting.features == nullptr)
+    return reject(Fault::out_of_range);
+  const Fault t = timing_.check(sighting.stamp_ns, now_ns);
+  if (t != Fault::none) return reject(t);
+  for (std::size_t i = 0; i < sighting.count; ++i) {
+    const Fault f = check_feature(sighting.features[i]);
+    if (f == Fault::none)
+      out.features[out.count++] = sighting.features[i];
+    else
+      faults_.add(f);
+  }
+  if (out.count == 0) return Fault::out_of_range;  // every feature already counted
+  features_accepted_ += static_cast<std::uint32_t>(out.count);
+  timing_.accept(sighting.stamp_ns);
+  return Fault::none;
+}
+
 void ValidatedInputs::on_wheel_ticks(const WheelTicks& sample) {
   WheelTickDelta delta;
   if (wheels_.check(sample, clock_.now_ns(), delta) == Fault::none) out_.on_wheel_motion(delta);
@@ -126,10 +157,16 @@ void ValidatedInputs::on_range_scan(const RangeScanView& scan) {
   if (scan_.check(scan, clock_.now_ns()) == Fault::none) out_.on_range_scan(scan);
 }
 
+void ValidatedInputs::on_landmarks(const LandmarkSightingView& sighting) {
+  if (landmarks_.check(sighting, clock_.now_ns(), landmark_buffer_) == Fault::none)
+    out_.on_landmarks(landmark_buffer_.view());
+}
+
 FaultCounters ValidatedInputs::faults() const {
   FaultCounters all = wheels_.faults();
   all.merge(steering_.faults());
   all.merge(scan_.faults());
+  all.merge(landmarks_.faults());
   return all;
 }
 

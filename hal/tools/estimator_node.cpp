@@ -70,6 +70,10 @@ class StampedPort final : public hal::SensorPort {
     clock_.now = s.stamp_ns;
     next_.on_range_scan(s);
   }
+  void on_landmarks(const hal::LandmarkSightingView& s) override {
+    clock_.now = s.stamp_ns;
+    next_.on_landmarks(s);
+  }
 
  private:
   StampClock& clock_;
@@ -92,7 +96,11 @@ class CountingPort final : public hal::ValidatedSensorPort {
     ++scans;
     next_.on_range_scan(s);
   }
-  std::uint64_t wheel_ticks = 0, steering = 0, scans = 0;
+  void on_landmarks(const hal::LandmarkSightingView& s) override {
+    ++sightings;
+    next_.on_landmarks(s);
+  }
+  std::uint64_t wheel_ticks = 0, steering = 0, scans = 0, sightings = 0;
 
  private:
   hal::ValidatedSensorPort& next_;

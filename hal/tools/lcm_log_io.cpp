@@ -45,4 +45,9 @@ void InputRecorder::on_range_scan(const RangeScanView& scan) {
   next_.on_range_scan(scan);
 }
 
+void InputRecorder::on_landmarks(const LandmarkSightingView& sighting) {
+  log_.write(channels_.landmarks, sighting.stamp_ns, hal::lcm::to_lcm(sighting));
+  next_.on_landmarks(sighting);
+}
+
 }  // namespace hal::node

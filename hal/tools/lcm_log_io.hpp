@@ -48,6 +48,7 @@ class InputRecorder final : public ValidatedSensorPort {
   void on_wheel_motion(const WheelTickDelta& delta) override;
   void on_steering(const SteeringSample& sample) override;
   void on_range_scan(const RangeScanView& scan) override;
+  void on_landmarks(const LandmarkSightingView& sighting) override;
 
  private:
   LogWriter& log_;

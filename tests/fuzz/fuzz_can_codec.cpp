@@ -23,6 +23,7 @@ struct NullPort final : hal::SensorPort {
     for (std::size_t i = 0; i < s.count; ++i)
       if (s.ranges[i] != s.ranges[i]) __builtin_trap();  // the bus cannot produce NaN
   }
+  void on_landmarks(const hal::LandmarkSightingView&) override { __builtin_trap(); }  // CAN carries none
 };
 
 template <typename Msg>

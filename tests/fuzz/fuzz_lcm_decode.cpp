@@ -25,6 +25,10 @@ struct Sink final : hal::ValidatedSensorPort {
   void on_range_scan(const hal::RangeScanView& s) override {
     if (!__builtin_isfinite(s.geometry.angle_increment_rad)) __builtin_trap();
   }
+  void on_landmarks(const hal::LandmarkSightingView& s) override {
+    for (std::size_t i = 0; i < s.count; ++i)
+      if (!__builtin_isfinite(s.features[i].range_m) || !(s.features[i].range_m > 0.0f)) __builtin_trap();
+  }
 };
 
 bool g_prefix_fingerprint = false;

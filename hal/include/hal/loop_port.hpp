@@ -12,6 +12,7 @@
 #include "est/loop/filter_loop.hpp"
 #include "hal/estimate.hpp"
 #include "hal/fault.hpp"
+#include "hal/landmarks.hpp"
 #include "hal/range_scan.hpp"
 #include "hal/sensor_port.hpp"
 #include "hal/status_word.hpp"
@@ -47,6 +48,10 @@ inline est::loop::WheelTicksInput to_loop_input(const WheelTickDelta& d) {
 }
 
 inline est::loop::SteeringInput to_loop_input(const SteeringSample& s) { return {s.stamp_ns, s.angle_rad}; }
+
+inline est::loop::LandmarkInput to_loop_input(TimeNs stamp_ns, const LandmarkFeature& f) {
+  return {stamp_ns, f.range_m, f.bearing_rad, f.signature, f.id};
+}
 
 // The view's readings are not copied: the result is valid while the view is (the loop's queue copies them).
 inline est::loop::ScanInput to_loop_input(const RangeScanView& s) {
@@ -84,6 +89,12 @@ class LoopPort final : public ValidatedSensorPort {
   void on_range_scan(const RangeScanView& scan) override {
     if (scan.count == 0u || scan.count > static_cast<std::size_t>(KMax)) return reject(LoopPortReject::scan_too_large);
     loop_.push(to_loop_input(scan));
+    loop_.run(clock_, publisher_);
+  }
+
+  // One loop input per feature, all with the sighting's stamp (the loop fuses them in a fixed order).
+  void on_landmarks(const LandmarkSightingView& sighting) override {
+    for (std::size_t i = 0; i < sighting.count; ++i) loop_.push(to_loop_input(sighting.stamp_ns, sighting.features[i]));
     loop_.run(clock_, publisher_);
   }
 

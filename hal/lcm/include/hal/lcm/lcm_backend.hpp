@@ -17,6 +17,7 @@ struct Channels {
   std::string wheel_ticks = "EST_WHEEL_TICKS";
   std::string steering = "EST_STEERING";
   std::string range_scan = "EST_RANGE_SCAN";
+  std::string landmarks = "EST_LANDMARKS";
   std::string team = "EST_TEAM";
   std::string pose = "EST_POSE";
   std::string particles = "EST_PARTICLES";
@@ -46,6 +47,7 @@ class LcmInputs {
   void on_wheel_ticks(const ::lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void on_steering(const ::lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void on_range_scan(const ::lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void on_landmarks(const ::lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void on_team(const ::lcm::ReceiveBuffer* rbuf, const std::string& channel);
   bool note(LcmReject r);
 
@@ -58,6 +60,7 @@ class LcmInputs {
   FaultCounters team_faults_;
   std::uint64_t accepted_ = 0;
   TeamMessage team_message_;  // large: kept here rather than on the stack
+  LandmarkSighting<kMaxLandmarkFeatures> sighting_;
 };
 
 class LcmOutputs final : public EstimateSink {

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <est_lcm/encoder_ticks_t.hpp>
 #include <est_lcm/ground_truth_t.hpp>
+#include <est_lcm/landmark_sighting_t.hpp>
 #include <est_lcm/particle_cloud_t.hpp>
 #include <est_lcm/pose_estimate_t.hpp>
 #include <est_lcm/range_scan_t.hpp>
@@ -14,6 +15,7 @@
 
 #include "hal/estimate.hpp"
 #include "hal/fault.hpp"
+#include "hal/landmarks.hpp"
 #include "hal/range_scan.hpp"
 #include "hal/steering.hpp"
 #include "hal/team_message.hpp"
@@ -41,11 +43,14 @@ SteeringSample to_hal(const est_lcm::steering_t& m);
 // The view points into m.ranges_m: valid while m lives.
 LcmReject to_hal(const est_lcm::range_scan_t& m, RangeScanView& out);
 LcmReject to_hal(const est_lcm::team_message_t& m, TeamMessage& out, Fault& content);
+// Copies up to kMaxLandmarkFeatures features (more: bad_count).
+LcmReject to_hal(const est_lcm::landmark_sighting_t& m, LandmarkSighting<kMaxLandmarkFeatures>& out);
 
 est_lcm::encoder_ticks_t to_lcm(const WheelTicks& s, unsigned counter_bits);
 est_lcm::steering_t to_lcm(const SteeringSample& s);
 est_lcm::range_scan_t to_lcm(const RangeScanView& s);
 est_lcm::team_message_t to_lcm(const TeamMessage& m);
+est_lcm::landmark_sighting_t to_lcm(const LandmarkSightingView& s);
 est_lcm::pose_estimate_t to_lcm(const Estimate& e);
 Estimate to_hal(const est_lcm::pose_estimate_t& m);
 
