@@ -267,7 +267,9 @@ class Node {
       const ::lcm::LogEvent* ev = in.readNextEvent();
       if (ev == nullptr) break;
       ++log_events_;
-      if (ev->channel != ch.wheel_ticks && ev->channel != ch.steering && ev->channel != ch.range_scan) continue;
+      if (ev->channel != ch.wheel_ticks && ev->channel != ch.steering && ev->channel != ch.range_scan &&
+          ev->channel != ch.landmarks)
+        continue;
       ++log_inputs_;
       bus.publish(ev->channel, ev->data, static_cast<unsigned>(ev->datalen));
       bus.handle();
@@ -361,27 +363,31 @@ class Node {
     std::FILE* f = stderr;
     std::fprintf(f, "estimator_node summary (%s%s)\n", replay ? "replay" : "live",
                  stop_signal_ == SIGINT ? ", stopped by SIGINT" : stop_signal_ == SIGTERM ? ", stopped by SIGTERM" : "");
-    std::fprintf(f, "  map: %s; particles: %u\n", pipeline_->map_description().c_str(), pipeline_->particle_count());
+    std::fprintf(f, "  map: %s; filter: %s\n", pipeline_->map_description().c_str(),
+                 pipeline_->filter_description().c_str());
     if (replay)
       std::fprintf(f, "  log: events=%llu inputs=%llu wall_s=%.3f\n", static_cast<unsigned long long>(log_events_),
                    static_cast<unsigned long long>(log_inputs_), wall_s_);
     else
       std::fprintf(f, "  run: wall_s=%.3f\n", wall_s_);
-    std::fprintf(f, "  inputs: wheel_ticks=%llu steering=%llu scans=%llu (validated, handed to the loop)\n",
+    std::fprintf(f, "  inputs: wheel_ticks=%llu steering=%llu scans=%llu landmark_sightings=%llu (validated, handed to the loop)\n",
                  static_cast<unsigned long long>(counting_->wheel_ticks),
-                 static_cast<unsigned long long>(counting_->steering), static_cast<unsigned long long>(counting_->scans));
+                 static_cast<unsigned long long>(counting_->steering), static_cast<unsigned long long>(counting_->scans),
+                 static_cast<unsigned long long>(counting_->sightings));
     std::fprintf(f,
                  "  loop: inputs=%u too_old=%u queue_full=%u rejected=%u predictions=%u corrections=%u degenerate=%u "
-                 "overruns=%u worst_step_us=%.1f encoder_timeouts=%u steering_timeouts=%u scan_timeouts=%u\n",
+                 "overruns=%u worst_step_us=%.1f encoder_timeouts=%u steering_timeouts=%u scan_timeouts=%u "
+                 "landmark_timeouts=%u unused=%u\n",
                  lc.inputs, lc.too_old, lc.queue_full, lc.rejected, lc.predictions, lc.corrections, lc.degenerate,
                  lc.overruns, static_cast<double>(lc.worst_step_ns) / 1000.0, lc.encoder_timeouts, lc.steering_timeouts,
-                 lc.scan_timeouts);
+                 lc.scan_timeouts, lc.landmark_timeouts, lc.unused);
     std::fprintf(f, "  estimates: published=%llu nonfinite_held=%u\n", static_cast<unsigned long long>(outputs.count()),
                  pipeline_->nonfinite_estimates());
     std::fprintf(f, "  rejects: total=%u\n", upstream_rejects() + pipeline_->port_rejects().total());
     std::fprintf(f, "  rejects.wheel_ticks:%s\n", reason_list<hal::Fault>(validated_->wheels().faults()).c_str());
     std::fprintf(f, "  rejects.steering:%s\n", reason_list<hal::Fault>(validated_->steering().faults()).c_str());
     std::fprintf(f, "  rejects.scan:%s\n", reason_list<hal::Fault>(validated_->scan().faults()).c_str());
+    std::fprintf(f, "  rejects.landmarks:%s\n", reason_list<hal::Fault>(validated_->landmarks().faults()).c_str());
     std::fprintf(f, "  rejects.loop_port:%s\n", reason_list<hal::LoopPortReject>(pipeline_->port_rejects()).c_str());
     if (lcm_inputs_)
       std::fprintf(f, "  rejects.lcm:%s accepted=%llu\n", reason_list<hal::lcm::LcmReject>(lcm_inputs_->rejects()).c_str(),

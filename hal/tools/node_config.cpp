@@ -52,7 +52,8 @@ void add_options(CLI::App& app, NodeConfig& c) {
                  "SCAN_*); inputs are stamped with the kernel's receive time")
       ->group(io);
   app.add_option("--lcm", c.lcm_url,
-                 "LCM URL to read sensor messages from (est_lcm encoder_ticks_t, steering_t, range_scan_t; stamped "
+                 "LCM URL to read sensor messages from (est_lcm encoder_ticks_t, steering_t, range_scan_t, "
+                 "landmark_sighting_t; stamped "
                  "by the sender, same monotonic clock as this host) and to publish on")
       ->group(io);
   app.add_option("--lcm-out", c.lcm_out_url,
@@ -79,6 +80,7 @@ void add_options(CLI::App& app, NodeConfig& c) {
   app.add_option("--ch-wheel-ticks", c.channels.wheel_ticks, "LCM channel: encoder ticks in")->capture_default_str()->group(io);
   app.add_option("--ch-steering", c.channels.steering, "LCM channel: steering in")->capture_default_str()->group(io);
   app.add_option("--ch-scan", c.channels.range_scan, "LCM channel: range scans in")->capture_default_str()->group(io);
+  app.add_option("--ch-landmarks", c.channels.landmarks, "LCM channel: landmark sightings in (landmark_sighting_t)")->capture_default_str()->group(io);
   app.add_option("--ch-pose", c.channels.pose, "LCM channel: pose estimates out")->capture_default_str()->group(io);
   app.add_option("--ch-status", c.channels.status, "LCM channel: status out")->capture_default_str()->group(io);
   app.add_option("--status-hz", c.status_hz, "status_t rate, in input time (0: only at the end)")
@@ -125,7 +127,28 @@ void add_options(CLI::App& app, NodeConfig& c) {
       ->delimiter(',')->expected(2)->default_str("0.2,0.1")->group(map);
   app.add_flag("--global", c.global, "global localization: particles uniform over the free space")->group(map);
 
-  const char* filter = "Filter (augmented MCL, likelihood field)";
+  const char* ekf = "Filter: EKF localization on landmark sightings (--filter ekf)";
+  app.add_option_function<std::string>(
+         "--filter",
+         [&c](const std::string& f) { c.filter = f == "ekf" ? est::loop::Filter::ekf : est::loop::Filter::mcl; },
+         "mcl: augmented Monte Carlo localization on range scans and the occupancy map (tracking or global); ekf: "
+         "EKF localization on landmark sightings (range, bearing, signature; known or unknown correspondence) and "
+         "a landmark map (tracking from --initial-pose; scans are counted as unused)")
+      ->check(CLI::IsMember({"mcl", "ekf"}))->default_str("mcl")->group(ekf);
+  app.add_option("--landmarks", c.landmarks,
+                 "landmark map: 'office' (the built-in office's 16 posts, signatures 1..16) or a CSV file of "
+                 "x,y,signature lines (m; '#' comments); a sighting's id is the line index from 0")
+      ->capture_default_str()->group(ekf);
+  app.add_option("--landmark-sigma-range", c.landmark_noise.sigma_range, "landmark sensor: range noise (m)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
+  app.add_option("--landmark-sigma-bearing", c.landmark_noise.sigma_bearing, "landmark sensor: bearing noise (rad)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
+  app.add_option("--landmark-sigma-signature", c.landmark_noise.sigma_signature,
+                 "landmark sensor: signature noise; > 0 makes signatures part of the association (0: not used)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
+  app.add_option("--landmark-max-range", c.limits.landmarks.max_range_m, "landmark features beyond this are rejected (m)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
+  app.add_option("--ekf-rot-sigma", c.ekf_rot_sigma, "heading noise added to every EKF prediction (rad)")->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
+  app.add_option("--lost-sigma", c.lost_sigma_m, "EKF: position sigma above which the estimate is flagged degenerate (m)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
+
+  const char* filter = "Filter: augmented MCL, likelihood field (--filter mcl)";
   app.add_option("--particles", c.particles, "particle count (at most 20000)")
       ->capture_default_str()->check(CLI::Range(1u, kMaxParticles))->group(filter);
   app.add_option("--seed", c.seed, "random seed (the run is a function of the seed and the inputs)")->capture_default_str()->group(filter);
@@ -152,6 +175,7 @@ void add_options(CLI::App& app, NodeConfig& c) {
   add_ms(app, "--encoder-timeout", c.timing.encoder_timeout_ns, "encoders stale after", loop);
   add_ms(app, "--steering-timeout", c.timing.steering_timeout_ns, "steering stale after", loop);
   add_ms(app, "--scan-timeout", c.timing.scan_timeout_ns, "scans stale after", loop);
+  add_ms(app, "--landmark-timeout", c.timing.landmark_timeout_ns, "landmark sightings stale after (EKF)", loop);
   add_ms(app, "--step-deadline", c.timing.step_deadline_ns, "budget of one predict or correct step (live; replay does not time)", loop);
   add_ms(app, "--max-age", c.limits.wheels.timing.max_age_ns, "live: inputs older than this on arrival are stale", loop);
   add_ms(app, "--max-future", c.limits.wheels.timing.max_future_ns, "live: inputs stamped further ahead of the clock are rejected", loop);
@@ -166,6 +190,8 @@ void add_options(CLI::App& app, NodeConfig& c) {
 void finish_options(const CLI::App& app, NodeConfig& c) {
   c.limits.steering.timing = c.limits.wheels.timing;
   c.limits.scan.timing = c.limits.wheels.timing;
+  c.limits.landmarks.timing = c.limits.wheels.timing;
+  c.limits.landmarks.max_id = kMaxLandmarks - 1;
   c.limits.scan.max_beams = static_cast<std::size_t>(kMaxBeams);
   c.lcm_input = app.count("--lcm") > 0;
   if (c.replay_path.empty() && c.can_interface.empty() && !c.lcm_input)
@@ -176,6 +202,8 @@ void finish_options(const CLI::App& app, NodeConfig& c) {
   if (c.can_out && c.can_interface.empty()) throw CLI::ValidationError("--can-out", "needs --can IFACE");
   if (c.global == c.initial_pose_given)
     throw CLI::ValidationError("initial belief", "give exactly one of --initial-pose x,y,theta and --global");
+  if (c.filter == est::loop::Filter::ekf && c.global)
+    throw CLI::ValidationError("--global", "global localization needs --filter mcl (the EKF tracks from --initial-pose)");
   if (c.lcm_out_url.empty()) c.lcm_out_url = c.lcm_url;
 }
 

@@ -5,7 +5,8 @@
 #include <string>
 
 #include "est/geometry/pose2.hpp"
-#include "est/loop/filter_loop.hpp"
+#include "est/loop/configured_loop.hpp"
+#include "est/sensor/landmark_model.hpp"
 #include "est/motion/bicycle_model.hpp"
 #include "est/motion/diff_drive_model.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
@@ -20,6 +21,7 @@ inline constexpr std::int32_t kMaxBeams = 1081;
 inline constexpr std::uint32_t kQueueCapacity = 256;
 inline constexpr std::uint32_t kScanSlots = 4;
 inline constexpr std::int32_t kMapMaxSide = 2048;  // cells per side of a map file
+inline constexpr std::int32_t kMaxLandmarks = 1024;  // landmarks in a landmark map file
 
 enum class RobotModel { diff_drive, bicycle };
 
@@ -57,6 +59,13 @@ struct NodeConfig {
   float initial_sigma_theta_rad = 0.1f;
 
   // Filter.
+  est::loop::Filter filter = est::loop::Filter::mcl;
+  // EKF localization on landmark sightings.
+  std::string landmarks = "office";  // 'office' or a CSV file of x,y,signature
+  est::LandmarkNoise landmark_noise{0.05f, 0.02f, 0.0f};
+  float ekf_rot_sigma = 0.002f;  // heading noise added per prediction (rad): what the odometry model leaves out
+  float lost_sigma_m = 5.0f;
+  // MCL.
   std::uint32_t particles = 1000;
   std::uint64_t seed = 1;
   std::int32_t beam_stride = 4;

@@ -2,12 +2,14 @@
 #include "pipeline.hpp"
 
 #include <stdexcept>
+#include <type_traits>
 
 #include "est/filter/free_space_sampler.hpp"
-#include "est/loop/mcl_estimator.hpp"
+#include "est/loop/configured_loop.hpp"
 #include "est/map/distance_transform.hpp"
 #include "est/map/occupancy_grid.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
+#include "hal/maps/landmark_file.hpp"
 #include "hal/maps/office_map.hpp"
 #include "hal/maps/ros_map_loader.hpp"
 
@@ -15,8 +17,10 @@ namespace hal::node {
 
 namespace {
 
-// The map and what the models precompute from it; owned here, read by the estimator for its whole life.
+// The map and what the models precompute from it; owned here, read by the estimator for its whole life. MCL uses
+// the occupancy grid, the EKF the landmarks.
 struct MapModels {
+  est::LandmarkMapStorage<kMaxLandmarks> landmarks;
   est::OccupancyGridStorage<kMapMaxSide, kMapMaxSide> grid;
   est::DistanceTransformStorage<kMapMaxSide, kMapMaxSide> edt;
   est::LikelihoodField field;
@@ -24,6 +28,16 @@ struct MapModels {
   std::string description;
 
   void build(const NodeConfig& c) {
+    if (c.filter == est::loop::Filter::ekf) {
+      if (c.landmarks == "office") {
+        maps::make_office_landmarks(landmarks);
+        description = "office landmarks (built-in, 16 posts)";
+      } else {
+        maps::load_landmark_csv(c.landmarks, landmarks);
+        description = c.landmarks + " (" + std::to_string(landmarks.size()) + " landmarks)";
+      }
+      return;
+    }
     if (c.map == "office") {
       maps::make_office_map(grid);
       description = "office (built-in, 20 m x 15 m at 0.05 m)";
@@ -59,21 +73,63 @@ void set_odometry<est::BicycleMotionModel>(const NodeConfig& c,
   o.metres_per_tick = c.metres_per_tick;
 }
 
+// The firmware's static configuration of each pipeline the node can run: the node's capacities and the model and
+// filter chosen on its command line (the rates and limits are run-time options on the host).
+template <typename RobotModel, est::loop::Filter F>
+struct NodeLoopConfig {
+  using Model = RobotModel;
+  static constexpr est::loop::Filter kFilter = F;
+  static constexpr std::uint32_t kMaxParticles = hal::node::kMaxParticles;
+  static constexpr std::int32_t kMaxBeams = hal::node::kMaxBeams;
+  static constexpr std::uint32_t kQueueCapacity = hal::node::kQueueCapacity;
+  static constexpr std::uint32_t kScanSlots = hal::node::kScanSlots;
+  static constexpr est::loop::LoopTiming kTiming{};
+};
+
 template <typename Model>
+est::loop::MclEstimatorConfig<Model> estimator_config(const NodeConfig& c, est::loop::MclEstimatorConfig<Model>) {
+  est::loop::MclEstimatorConfig<Model> e;
+  e.mcl.recovery = c.recovery;
+  e.mcl.alpha_slow = c.alpha_slow;
+  e.mcl.alpha_fast = c.alpha_fast;
+  e.motion = motion_params<Model>(c);
+  set_odometry<Model>(c, e.odometry);
+  e.sensor_mount = c.sensor_mount;
+  e.beam_stride = c.beam_stride;
+  e.cluster_cell = c.cluster_cell_m;
+  return e;
+}
+
+template <typename Model>
+est::loop::EkfEstimatorConfig<Model> estimator_config(const NodeConfig& c, est::loop::EkfEstimatorConfig<Model>) {
+  est::loop::EkfEstimatorConfig<Model> e;
+  e.motion = motion_params<Model>(c);
+  set_odometry<Model>(c, e.odometry);
+  e.ekf.additive_process_noise(2, 2) = c.ekf_rot_sigma * c.ekf_rot_sigma;
+  e.noise = c.landmark_noise;
+  e.lost_sigma_m = c.lost_sigma_m;
+  return e;
+}
+
+template <typename Model, est::loop::Filter F>
 class ModelPipeline final : public Pipeline {
  public:
-  using Estimator = est::loop::MclEstimator<Model, kMaxParticles, kMaxBeams>;
+  using Configured = est::loop::ConfiguredLoop<NodeLoopConfig<Model, F>>;
+  using Estimator = typename Configured::Estimator;
   using Port = LoopPort<Estimator, kQueueCapacity, kMaxBeams, kScanSlots>;
+  static_assert(std::is_same_v<typename Port::Loop, typename Configured::Loop>, "one loop type");
 
   ModelPipeline(const NodeConfig& c, std::unique_ptr<MapModels> map, Clock& step_clock, EstimateSink& sink)
-      : map_(std::move(map)),
-        estimator_(estimator_config(c), c.seed, map_->field, map_->free_space),
-        loop_(estimator_, c.timing),
-        port_(loop_, step_clock, sink) {
-    if (c.global)
-      estimator_.initialize_global(c.particles);
-    else
-      estimator_.initialize_at(c.initial_pose, c.initial_sigma_xy_m, c.initial_sigma_theta_rad, c.particles);
+      : map_(std::move(map)), estimator_(construct(c, *map_)), loop_(estimator_, c.timing), port_(loop_, step_clock, sink) {
+    if constexpr (F == est::loop::Filter::mcl) {
+      if (c.global)
+        estimator_.initialize_global(c.particles);
+      else
+        estimator_.initialize_at(c.initial_pose, c.initial_sigma_xy_m, c.initial_sigma_theta_rad, c.particles);
+    } else {
+      if (!estimator_.initialize_at(c.initial_pose, c.initial_sigma_xy_m, c.initial_sigma_theta_rad))
+        throw std::runtime_error("EKF: the initial pose and sigmas must be finite and the sigmas positive");
+    }
   }
 
   ValidatedSensorPort& port() override { return port_; }
@@ -84,21 +140,27 @@ class ModelPipeline final : public Pipeline {
   const LoopPortRejectCounters& port_rejects() const override { return port_.rejects(); }
   std::uint32_t published() const override { return port_.published(); }
   std::uint32_t nonfinite_estimates() const override { return port_.nonfinite_estimates(); }
-  std::uint32_t particle_count() const override { return estimator_.filter().particles().count; }
+  std::uint32_t particle_count() const override {
+    if constexpr (F == est::loop::Filter::mcl)
+      return estimator_.filter().particles().count;
+    else
+      return 0u;
+  }
   std::string map_description() const override { return map_->description; }
+  std::string filter_description() const override {
+    if constexpr (F == est::loop::Filter::mcl)
+      return "augmented MCL, " + std::to_string(estimator_.filter().particles().count) + " particles";
+    else
+      return "EKF localization (" + std::to_string(estimator_.filter().counters().accepted) + " features fused, " +
+             std::to_string(estimator_.filter().counters().rejected()) + " refused)";
+  }
 
  private:
-  static est::loop::MclEstimatorConfig<Model> estimator_config(const NodeConfig& c) {
-    est::loop::MclEstimatorConfig<Model> e;
-    e.mcl.recovery = c.recovery;
-    e.mcl.alpha_slow = c.alpha_slow;
-    e.mcl.alpha_fast = c.alpha_fast;
-    e.motion = motion_params<Model>(c);
-    set_odometry<Model>(c, e.odometry);
-    e.sensor_mount = c.sensor_mount;
-    e.beam_stride = c.beam_stride;
-    e.cluster_cell = c.cluster_cell_m;
-    return e;
+  static Estimator construct(const NodeConfig& c, const MapModels& m) {
+    if constexpr (F == est::loop::Filter::mcl)
+      return Estimator(estimator_config(c, typename Configured::EstimatorConfig{}), c.seed, m.field, m.free_space);
+    else
+      return Estimator(estimator_config(c, typename Configured::EstimatorConfig{}), m.landmarks.view());
   }
 
   std::unique_ptr<MapModels> map_;
@@ -112,9 +174,15 @@ class ModelPipeline final : public Pipeline {
 std::unique_ptr<Pipeline> make_pipeline(const NodeConfig& c, Clock& step_clock, EstimateSink& sink) {
   auto map = std::make_unique<MapModels>();
   map->build(c);
+  using est::loop::Filter;
+  if (c.filter == Filter::ekf) {
+    if (c.model == RobotModel::bicycle)
+      return std::make_unique<ModelPipeline<est::BicycleMotionModel, Filter::ekf>>(c, std::move(map), step_clock, sink);
+    return std::make_unique<ModelPipeline<est::DiffDriveMotionModel, Filter::ekf>>(c, std::move(map), step_clock, sink);
+  }
   if (c.model == RobotModel::bicycle)
-    return std::make_unique<ModelPipeline<est::BicycleMotionModel>>(c, std::move(map), step_clock, sink);
-  return std::make_unique<ModelPipeline<est::DiffDriveMotionModel>>(c, std::move(map), step_clock, sink);
+    return std::make_unique<ModelPipeline<est::BicycleMotionModel, Filter::mcl>>(c, std::move(map), step_clock, sink);
+  return std::make_unique<ModelPipeline<est::DiffDriveMotionModel, Filter::mcl>>(c, std::move(map), step_clock, sink);
 }
 
 }  // namespace hal::node

@@ -1,7 +1,8 @@
 #pragma once
-// What estimator_node runs: the map and its models (distance transform, likelihood field, free space), the MCL
-// estimator of the chosen robot model, the firmware's FilterLoop and the HAL-to-loop adapter in front of it, behind
-// one interface so the rest of the node does not depend on the model (host only).
+// What estimator_node runs: the map and its models (distance transform, likelihood field, free space; or the
+// landmark map), the MCL or EKF estimator of the chosen robot model (est/loop/configured_loop.hpp), the firmware's
+// FilterLoop and the HAL-to-loop adapter in front of it, behind one interface so the rest of the node depends on
+// neither the model nor the filter (host only).
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -30,6 +31,7 @@ class Pipeline {
   virtual std::uint32_t nonfinite_estimates() const = 0;
   virtual std::uint32_t particle_count() const = 0;
   virtual std::string map_description() const = 0;
+  virtual std::string filter_description() const = 0;
 };
 
 // Loads the map (throws std::runtime_error with the reason), builds the models, initializes the filter (at the

@@ -59,7 +59,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static Clock clock;
   static Sink sink;
   static hal::ValidatedInputs gate(hal::InputLimits{}, clock, sink);
-  const std::uint8_t which = data[0] % 8;
+  const std::uint8_t which = data[0] % 9;
   g_prefix_fingerprint = (data[0] & 0x80) != 0;
   ++data;
   --size;
@@ -103,6 +103,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     case 6: {
       est_lcm::particle_cloud_t m;
       (void)decode_and_check(data, size, m, 100000);
+      break;
+    }
+    case 7: {
+      est_lcm::landmark_sighting_t m;
+      static hal::LandmarkSighting<hal::kMaxLandmarkFeatures> sighting;
+      if (decode_and_check(data, size, m, static_cast<std::int64_t>(hal::kMaxLandmarkFeatures)) &&
+          hal::lcm::to_hal(m, sighting) == LcmReject::none)
+        gate.on_landmarks(sighting.view());
       break;
     }
     default: {

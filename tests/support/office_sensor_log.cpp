@@ -7,6 +7,7 @@
 #include "est/random/xoshiro128.hpp"
 #include "hal/lcm/lcm_backend.hpp"
 #include "hal/lcm/lcm_convert.hpp"
+#include "world/landmark_sensor.hpp"
 #include "world/office_world.hpp"
 #include "world/range_sensor.hpp"
 #include "world/robots.hpp"
@@ -51,7 +52,9 @@ OfficeStream write_office_stream(const std::string& path, const OfficeStreamSpec
   OfficeStream out;
   out.start = world.route.pose_on_segment(0, 0.0f);
   est::sim::DiffDriveRobot robot(world.route, out.start, 1, office_robot_truth(), spec.speed_mps, kDt);
-  est::Rng motion_rng(spec.seed), scan_rng(spec.seed + 1000u);
+  est::Rng motion_rng(spec.seed), scan_rng(spec.seed + 1000u), landmark_rng(spec.seed + 2000u);
+  std::vector<est::sim::Sighting> sightings;
+  std::vector<hal::LandmarkFeature> features;
   const est::ScanLayout layout = est::sim::lidar_360(spec.range_max_m);
   std::vector<float> ranges;
   hal::WheelTicks counters;
@@ -85,6 +88,17 @@ OfficeStream write_office_stream(const std::string& path, const OfficeStreamSpec
       v.count = ranges.size();
       write(log, ch.range_scan, t, hal::lcm::to_lcm(v));
       ++out.scan_messages;
+    }
+    if (spec.landmark_every > 0 && k % spec.landmark_every == 0) {
+      est::sim::simulate_landmarks(world.grid(), world.landmarks(), robot.pose(), est::sim::LandmarkSensorSpec{},
+                                   landmark_rng, sightings);
+      features.clear();
+      for (const est::sim::Sighting& s : sightings) features.push_back({s.f.range, s.f.bearing, s.f.signature, s.c});
+      if (!features.empty()) {
+        write(log, ch.landmarks, t, hal::lcm::to_lcm(hal::LandmarkSightingView{t, features.data(), features.size()}));
+        ++out.landmark_messages;
+        out.landmark_features += features.size();
+      }
     }
   }
   return out;

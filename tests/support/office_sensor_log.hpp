@@ -1,7 +1,8 @@
 #pragma once
 // A small recorded sensor stream for the node's tests, until `sim_host record` is there to write one: a differential
 // drive robot following the office route (sim_host/world), its encoders at 100 Hz (32-bit counters) and a 360-beam
-// rangefinder at 10 Hz (ray cast in the office map, with the sim's range noise), plus the ground truth, written as an
+// rangefinder at 10 Hz (ray cast in the office map, with the sim's range noise), landmark sightings of the office's
+// posts at 5 Hz (within 6 m and in line of sight, known correspondence), plus the ground truth, written as an
 // LCM log (est_lcm types on the hal::lcm default channels) with lcm::LogFile. Event times are the stamps. Seeded.
 #include <cstdint>
 #include <string>
@@ -20,13 +21,14 @@ struct OfficeStreamSpec {
   float speed_mps = 0.6f;
   float range_max_m = 12.0f;
   int scan_every = 10;  // encoder periods (10 ms) per scan
+  int landmark_every = 20;  // encoder periods per landmark sighting (0: none)
 };
 
 struct OfficeStream {
   est::Pose2 start;                  // the true pose at t0 (give it to the node as --initial-pose)
   std::vector<hal::TimeNs> truth_t;  // every 10 ms
   std::vector<est::Pose2> truth;
-  std::size_t encoder_messages = 0, scan_messages = 0;
+  std::size_t encoder_messages = 0, scan_messages = 0, landmark_messages = 0, landmark_features = 0;
 };
 
 // The robot's true noise (the node is told larger: see the tests' options).

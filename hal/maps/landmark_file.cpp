@@ -1,0 +1,72 @@
+// Landmark map sources (hal/maps/landmark_file.hpp).
+#include "hal/maps/landmark_file.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <stdexcept>
+
+namespace hal::maps {
+
+namespace {
+
+const char* to_string(est::MapStatus s) {
+  switch (s) {
+    case est::MapStatus::nonfinite: return "a coordinate or signature is not finite";
+    case est::MapStatus::full: return "more landmarks than the map holds";
+    case est::MapStatus::duplicate: return "a signature appears twice";
+    default: return "rejected by the landmark map";
+  }
+}
+
+// Parses one float field ending at ',' or the end; advances p.
+bool field(const char*& p, float& out) {
+  while (*p == ' ' || *p == '\t') ++p;
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(p, &end);
+  if (end == p || errno == ERANGE) return false;
+  p = end;
+  while (*p == ' ' || *p == '\t' || *p == '\r') ++p;
+  if (*p == ',') ++p;
+  out = static_cast<float>(v);
+  return true;
+}
+
+}  // namespace
+
+void make_office_landmarks(est::LandmarkMapBuffer& out) {
+  const float posts[16][2] = {{0.5f, 8.0f},  {4.5f, 6.5f},  {8.5f, 8.1f},   {12.0f, 6.5f}, {17.0f, 8.0f}, {19.3f, 6.6f},
+                              {13.5f, 9.0f}, {16.8f, 9.2f}, {11.0f, 11.0f}, {8.5f, 13.5f}, {7.5f, 9.2f},  {4.5f, 12.0f},
+                              {2.0f, 9.0f},  {6.0f, 14.0f}, {18.5f, 12.5f}, {9.7f, 5.0f}};
+  out.clear();
+  for (int i = 0; i < 16; ++i) {
+    const est::MapStatus s = out.add({posts[i][0], posts[i][1], static_cast<float>(i + 1)});
+    if (s != est::MapStatus::ok) throw std::runtime_error(std::string("office landmarks: ") + to_string(s));
+  }
+}
+
+void load_landmark_csv(const std::string& path, est::LandmarkMapBuffer& out) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open");
+  out.clear();
+  std::string line;
+  int n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    const std::string where = path + ":" + std::to_string(n) + ": ";
+    std::size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    const char* p = line.c_str() + first;
+    float v[3] = {0.0f, 0.0f, 0.0f};
+    for (float& x : v)
+      if (!field(p, x)) throw std::runtime_error(where + "expected x,y,signature (three numbers)");
+    if (*p != '\0') throw std::runtime_error(where + "unexpected text after x,y,signature");
+    const est::MapStatus s = out.add({v[0], v[1], v[2]});
+    if (s != est::MapStatus::ok) throw std::runtime_error(where + to_string(s));
+  }
+  if (out.size() == 0) throw std::runtime_error(path + ": no landmarks");
+}
+
+}  // namespace hal::maps
