@@ -13,6 +13,7 @@ constexpr Section kSections[] = {
     {"samplers", section_samplers, 0x4c90acd00e9ea70aull},
     {"motion_b", section_motion_b, 0x52022a27d17655e3ull},
     {"sensors", section_sensors, 0x10b2b53ad7117cf3ull},
+    {"beam_table", section_beam_table, 0xcb7de31e0c02c7a1ull},
     {"motion_a", section_motion_a, 0x651a71140c8e686eull},
     {"ekf", section_ekf, 0x9f2512c664b22560ull},
     {"mcl", section_mcl, 0x25e68dec342c542eull},

@@ -31,6 +31,7 @@ std::uint64_t section_gaussian_propagation();
 std::uint64_t section_samplers();
 std::uint64_t section_motion_b();
 std::uint64_t section_sensors();
+std::uint64_t section_beam_table();
 std::uint64_t section_motion_a();
 std::uint64_t section_ekf();
 std::uint64_t section_mcl();

@@ -1,9 +1,10 @@
 // Monte Carlo localization stages on the Intel lab map (or, without the shared datasets, a synthetic map of the same
 // size, said in the output): predict, weight (beam model with the distance-transform ray caster and with the heading
-// lookup table; likelihood field, batched and scalar) and resample, for N in {256, 1024, 4096, 16384} particles and K in {60, 360} beams; then a
+// lookup table and prepared readings; likelihood field, batched and scalar) and resample, for N in {256, 1024, 4096, 16384} particles and K in {60, 360} beams; then a
 // summary in ns per particle / particle-beam against the project's targets and the peers' figures, and the memory of
 // every acceleration structure. Per-thread CPU time; figures only, nothing is asserted.
 //   build/host/bin/bench_mcl [--benchmark_filter=...]
+//     [--benchmark_repetitions=3 --benchmark_report_aggregates_only=true]: the summary then takes each run's median.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -25,6 +26,7 @@
 #include "est/motion/motion_batch.hpp"
 #include "est/sensor/beam_range_finder_model.hpp"
 #include "est/sensor/beam_range_finder_model_table.hpp"
+#include "est/sensor/beam_readings.hpp"
 #include "est/sensor/likelihood_field_grid.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
 #include "est/sensor/range_scan.hpp"
@@ -44,6 +46,8 @@ constexpr std::int32_t kTableBins = 64;
 est::HeadingRangeTableStorage<888, 848, kTableBins> g_table;
 est::BeamBearingsStorage<360> g_bearings360;
 est::BeamBearingsStorage<60> g_bearings60;
+est::BeamReadingsStorage<360> g_readings360;
+est::BeamReadingsStorage<60> g_readings60;
 est::LikelihoodField g_field;
 est::BeamRangeFinderModel g_beam;
 est::PreparedScan<360> g_scan360;
@@ -142,6 +146,8 @@ void setup() {
   g_scan60.prepare(layout, best.data(), 6);
   g_bearings360.prepare(g_scan360.beams(), g_table.view());
   g_bearings60.prepare(g_scan60.beams(), g_table.view());
+  g_readings360.prepare(g_scan360.beams(), g_beam);
+  g_readings60.prepare(g_scan60.beams(), g_beam);
 
   // Range error of the table against the exact traversal: 20 000 rays, 20 m, from random free cells.
   {
@@ -287,15 +293,18 @@ void BM_weight_beam(benchmark::State& state) {
   set_items(state, static_cast<std::int64_t>(n) * z.count);
 }
 
-// z* from the heading lookup table, bearings prepared once per scan (est/sensor/beam_range_finder_model_table.hpp).
+// z* from the heading lookup table; bearings and readings prepared once per scan, the beams' densities multiplied
+// and taken to log space once per particle (est/sensor/beam_range_finder_model_table.hpp).
 void BM_weight_beam_table(benchmark::State& state) {
   const auto n = static_cast<std::uint32_t>(state.range(0));
   const est::ScanBeams z = scan(state.range(1));
   const est::BeamBearings bearings = state.range(1) == 60 ? g_bearings60.view() : g_bearings360.view();
+  const est::BeamReadings readings = state.range(1) == 60 ? g_readings60.view() : g_readings360.view();
   Mcl& mcl = cloud(n);
   const est::HeadingRangeTable table = g_table.view();
   for (auto _ : state)
-    mcl.correct([&](const est::Pose2& x) { return est::beam_range_finder_model(z, bearings, x, {}, table, g_beam); });
+    mcl.correct(
+        [&](const est::Pose2& x) { return est::beam_range_finder_model(z, bearings, readings, x, {}, table, g_beam); });
   set_items(state, static_cast<std::int64_t>(n) * z.count);
 }
 
@@ -327,24 +336,30 @@ BENCHMARK(BM_weight_beam)->Apply(particle_beam_args)->Unit(benchmark::kMicroseco
 BENCHMARK(BM_weight_beam_table)->Apply(particle_beam_args)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_resample)->Apply(particle_args)->Unit(benchmark::kMicrosecond);
 
-// Keeps every run's CPU time per item (ns) for the summary.
+// Keeps every run's CPU time per item (ns) for the summary; with --benchmark_repetitions the median of the
+// repetitions (also under --benchmark_report_aggregates_only).
 class Collector : public benchmark::ConsoleReporter {
  public:
-  std::map<std::string, double> ns_per_item;
+  std::map<std::string, double> ns_per_item, median_ns_per_item;
   void ReportRuns(const std::vector<Run>& runs) override {
     for (const Run& r : runs) {
-      if (r.run_type != Run::RT_Iteration || r.error_occurred) continue;
+      if (r.error_occurred) continue;
+      const bool median = r.run_type == Run::RT_Aggregate && r.aggregate_name == "median";
+      if (r.run_type != Run::RT_Iteration && !median) continue;
       const auto it = r.counters.find("items_per_second");
-      std::string name = r.benchmark_name();
+      std::string name = r.run_name.str();
       const auto cut = name.find("/min_time:");
       if (cut != std::string::npos) name.erase(cut);
-      if (it != r.counters.end() && it->second.value > 0.0) ns_per_item[name] = 1e9 / it->second.value;
+      if (it != r.counters.end() && it->second.value > 0.0)
+        (median ? median_ns_per_item : ns_per_item)[name] = 1e9 / it->second.value;
     }
     ConsoleReporter::ReportRuns(runs);
   }
 };
 
 double get(const Collector& c, const std::string& name) {
+  const auto m = c.median_ns_per_item.find(name);
+  if (m != c.median_ns_per_item.end()) return m->second;
   const auto it = c.ns_per_item.find(name);
   return it == c.ns_per_item.end() ? -1.0 : it->second;
 }
@@ -401,8 +416,8 @@ void summary(const Collector& c) {
   std::printf("\n=== targets (judged at the worst N, K; steady state N = 16384, K = 360 in brackets) ===\n");
   std::printf("likelihood field weight <= 2.5 ns/particle-beam : %6.2f (%5.2f)  %s\n", lf,
               get(c, "BM_weight_likelihood_field/16384/360"), verdict(lf, 2.5));
-  std::printf("beam model weight       <= 40 ns/particle-beam  : %6.1f (%5.1f)  %s  heading lookup table (%d bins);"
-              " distance-transform caster %.1f (%s)\n",
+  std::printf("beam model weight       <= 40 ns/particle-beam  : %6.1f (%5.1f)  %s  heading lookup table (%d bins),"
+              " readings prepared per scan, one log per particle; distance-transform caster %.1f (%s)\n",
               beam, get(c, "BM_weight_beam_table/16384/360"), verdict(beam, 40.0), kTableBins, beam_dt,
               verdict(beam_dt, 40.0));
   std::printf(

@@ -14,10 +14,15 @@
 //
 // Log-likelihoods are sums of per-beam log densities (per metre), each floored at kBeamLogDensityFloor
 // (log 1e-30), so a scan's log-likelihood is never -inf or NaN; a non-finite pose gets the floor on every beam.
+//
+// Speed without changing a bit: the Gaussian's and p_short's exp are fmath::exp inlined (est/math/inline_exp.hpp,
+// the same bits), p_hit's truncation mass for a ray with no hit (z* = z_max) is computed once in configure(), and
+// what depends on the reading alone can be prepared once per scan (reading(), est/sensor/beam_readings.hpp).
 #include <cstdint>
 
 #include "est/geometry/pose2.hpp"
 #include "est/math/fmath.hpp"
+#include "est/math/inline_exp.hpp"
 #include "est/math/normal.hpp"
 #include "est/sensor/range_scan.hpp"
 
@@ -68,6 +73,7 @@ class BeamRangeFinderModel {
     hit_coeff_ = p.z_hit * 0.39894228040143267794f * inv_sigma_;
     rand_density_ = p.z_rand / p.range_max;
     max_density_ = p.z_max / p.max_bin_width;
+    mass_at_max_ = hit_mass((0.0f - p.range_max) * inv_sigma_, (p.range_max - p.range_max) * inv_sigma_);
     ready_ = true;
     return SensorModelStatus::ok;
   }
@@ -86,26 +92,9 @@ class BeamRangeFinderModel {
     if (z_exp > zm) z_exp = zm;
 
     float p = is_max ? max_density_ : rand_density_;
-    // p_hit: beyond 12 sigma the Gaussian is below 1e-31 relative, under the floor.
-    const float u = (z - z_exp) * inv_sigma_;
-    if (u > -12.0f && u < 12.0f) {
-      // Mass of N(z*, sigma^2) in [0, z_max]; exactly 1 to float precision more than 5.5 sigma from both ends.
-      float mass = 1.0f;
-      const float a = (0.0f - z_exp) * inv_sigma_;
-      const float b = (zm - z_exp) * inv_sigma_;
-      if (a > -5.5f || b < 5.5f) mass = normal_cdf(b) - normal_cdf(a);
-      if (mass < 1e-30f) mass = 1e-30f;
-      p += hit_coeff_ * fmath::exp(-0.5f * u * u) / mass;
-    }
-    // p_short on [0, z*]
-    if (p_.z_short > 0.0f && z <= z_exp) {
-      const float x = p_.lambda_short * z_exp;
-      if (x >= 1e-6f) {
-        // 1 - e^{-x} without cancellation for small x
-        const float norm = x < 1e-3f ? x * (1.0f - 0.5f * x * (1.0f - x * (1.0f / 3.0f))) : 1.0f - fmath::exp(-x);
-        p += p_.z_short * p_.lambda_short * fmath::exp(-p_.lambda_short * z) / norm;
-      }
-    }
+    p = add_hit(p, z, z_exp);
+    if (p_.z_short > 0.0f && z <= z_exp)
+      p = add_short(p, p_.z_short * p_.lambda_short * fmath::exp(-p_.lambda_short * z), z, z_exp);
     return p;
   }
 
@@ -114,12 +103,73 @@ class BeamRangeFinderModel {
     return p > 1e-30f ? fmath::log(p) : kBeamLogDensityFloor;
   }
 
+  // The terms of a reading that do not depend on z*, prepared once per scan (est/sensor/beam_readings.hpp), so a
+  // particle-beam pays no exp for p_short's numerator. density(reading(z), z_exp) == density(z, z_exp) bit for
+  // bit for every z and finite z_exp (the same operations in the same order; tested).
+  struct Reading {
+    float z = 0.0f;          // clamped to [0, range_max]
+    float base = 0.0f;       // z_max / max_bin_width for a max reading, else z_rand / range_max
+    float short_num = 0.0f;  // z_short lambda e^{-lambda z}; 0 when z_short = 0
+  };
+  Reading reading(float z) const {
+    Reading r;
+    if (!fmath::isfinite(z)) {
+      r.z = __builtin_nanf("");  // no hit, no short, base 0: density 0, as density(z, z_exp) gives
+      return r;
+    }
+    const float zm = p_.range_max;
+    const bool is_max = z >= zm;
+    if (z < 0.0f) z = 0.0f;
+    if (is_max) z = zm;
+    r.z = z;
+    r.base = is_max ? max_density_ : rand_density_;
+    if (p_.z_short > 0.0f) r.short_num = p_.z_short * p_.lambda_short * fmath::exp(-p_.lambda_short * z);
+    return r;
+  }
+  // z_exp must be finite (a ray caster's range); it is clamped to [0, range_max].
+  float density(const Reading& r, float z_exp) const {
+    const float zm = p_.range_max;
+    if (z_exp < 0.0f) z_exp = 0.0f;
+    if (z_exp > zm) z_exp = zm;
+    float p = add_hit(r.base, r.z, z_exp);
+    if (p_.z_short > 0.0f) p = add_short(p, r.short_num, r.z, z_exp);
+    return p;
+  }
+
  private:
+  // p_hit: beyond 12 sigma the Gaussian is below 1e-31 relative, under the floor. (Computing it unconditionally and
+  // selecting measured slower on the host than the branch, bench_mcl.)
+  float add_hit(float p, float z, float z_exp) const {
+    const float u = (z - z_exp) * inv_sigma_;
+    if (!(u > -12.0f && u < 12.0f)) return p;
+    // Mass of N(z*, sigma^2) in [0, z_max]; exactly 1 to float precision more than 5.5 sigma from both ends. A ray
+    // with no hit has z* = range_max exactly: its mass is computed once, in configure().
+    float mass = 1.0f;
+    const float a = (0.0f - z_exp) * inv_sigma_;
+    const float b = (p_.range_max - z_exp) * inv_sigma_;
+    if (a > -5.5f || b < 5.5f) mass = z_exp == p_.range_max ? mass_at_max_ : hit_mass(a, b);
+    const float hit = hit_coeff_ * imath::exp(-0.5f * u * u);
+    return p + (mass == 1.0f ? hit : hit / mass);  // x / 1 is x: no division away from the ends, the same float
+  }
+  static float hit_mass(float a, float b) {
+    const float mass = normal_cdf(b) - normal_cdf(a);
+    return mass < 1e-30f ? 1e-30f : mass;
+  }
+  // p_short on [0, z*], from its numerator z_short lambda e^{-lambda z}.
+  float add_short(float p, float short_num, float z, float z_exp) const {
+    const float x = p_.lambda_short * z_exp;
+    if (!(z <= z_exp && x >= 1e-6f)) return p;
+    // 1 - e^{-x} without cancellation for small x
+    const float norm = x < 1e-3f ? x * (1.0f - 0.5f * x * (1.0f - x * (1.0f / 3.0f))) : 1.0f - imath::exp(-x);
+    return p + short_num / norm;
+  }
+
   BeamModelParams p_{};
   float inv_sigma_ = 1.0f;
   float hit_coeff_ = 0.0f;
   float rand_density_ = 0.0f;
   float max_density_ = 0.0f;
+  float mass_at_max_ = 1.0f;  // p_hit's mass at z* = range_max (a ray with no hit), the same float hit_mass() gives
   bool ready_ = false;
 };
 

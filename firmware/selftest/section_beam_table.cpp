@@ -1,0 +1,85 @@
+#include "est/map/heading_range_table.hpp"
+#include "est/map/occupancy_grid.hpp"
+#include "est/map/ray_casting.hpp"
+#include "est/math/inline_exp.hpp"
+#include "est/math/log_product.hpp"
+#include "est/random/xoshiro128.hpp"
+#include "est/sensor/beam_range_finder_model_table.hpp"
+#include "est/sensor/beam_readings.hpp"
+#include "est/sensor/range_scan.hpp"
+#include "est/util/digest.hpp"
+#include "selftest.hpp"
+
+namespace est::selftest {
+namespace {
+
+// 6.4 m x 4.8 m at 0.1 m with a partition and a desk; 16 headings per cell (96 KiB).
+OccupancyGridStorage<64, 48> g_room;
+HeadingRangeTableStorage<64, 48, 16> g_table;
+PreparedScan<72> g_scan72;
+BeamBearingsStorage<72> g_bearings;
+BeamReadingsStorage<72> g_readings;
+
+}  // namespace
+
+// The beam model's table path (Thrun table 6.1 over a heading range table): the table itself, the inline exp, the
+// log of a product, the prepared readings and both table overloads.
+std::uint64_t section_beam_table() {
+  Digest d;
+  Rng rng(20261124u);
+  for (int i = 0; i < 512; ++i) {
+    const float x = rng.uniform(-84.0f, 0.0f);
+    d.add(imath::exp(x));
+  }
+  LogProduct q;
+  for (int i = 0; i < 400; ++i) {
+    q.mul(rng.uniform(0.0f, 4.0f));
+    if (i % 50 == 49) d.add(q.log());
+  }
+
+  g_room.configure(64, 48, 0.1f, -0.5f, -0.3f, kFreeCell);
+  g_room.fill_rect(0, 0, 63, 0, kOccupiedCell);
+  g_room.fill_rect(0, 47, 63, 47, kOccupiedCell);
+  g_room.fill_rect(0, 0, 0, 47, kOccupiedCell);
+  g_room.fill_rect(63, 0, 63, 47, kOccupiedCell);
+  g_room.fill_rect(40, 0, 40, 30, kOccupiedCell);
+  g_room.fill_rect(10, 10, 18, 13, kOccupiedCell);
+  const OccupancyGrid grid = g_room.grid();
+  const GridRayCaster exact(grid);
+  d.add_u32(static_cast<std::uint32_t>(g_table.build(grid, exact, 16, 6.0f)));
+  const HeadingRangeTable table = g_table.view();
+  for (std::uint32_t i = 0; i < HeadingRangeTableStorage<64, 48, 16>::kEntries; i += 13u) d.add_u32(table.data()[i]);
+
+  const Pose2 truth{1.7f, 2.9f, 0.4f};
+  const ScanLayout layout{-kPi, kTwoPi / 72.0f, 72, 0.02f, 6.0f};
+  float ranges[72];
+  for (int k = 0; k < 72; ++k) {
+    float s = 0.0f, c = 0.0f;
+    fmath::sincos(truth.theta + layout.angle_min + static_cast<float>(k) * layout.angle_increment, s, c);
+    ranges[k] = exact.cast(truth.x, truth.y, c, s, 6.0f) + rng.uniform(-0.03f, 0.03f);
+  }
+  ranges[9] = 7.0f;  // a max reading
+  ranges[30] = 0.3f;  // a short one
+  g_scan72.prepare(layout, ranges, 1);
+  const ScanBeams b = g_scan72.beams();
+  BeamRangeFinderModel beam;
+  BeamModelParams bp;
+  bp.range_max = 6.0f;
+  beam.configure(bp);
+  d.add_u32(g_bearings.prepare(b, table) ? 1u : 0u);
+  d.add_u32(g_readings.prepare(b, beam) ? 1u : 0u);
+  const BeamReadings readings = g_readings.view();
+  for (std::int32_t k = 0; k < b.count; ++k) {
+    d.add(readings.reading[k].short_num);
+    d.add(beam.density(readings.reading[k], 2.5f));
+  }
+  for (int i = 0; i < 32; ++i) {
+    const Pose2 x{truth.x + rng.uniform(-0.3f, 0.3f), truth.y + rng.uniform(-0.3f, 0.3f),
+                  truth.theta + rng.uniform(-0.2f, 0.2f)};
+    d.add(beam_range_finder_model(b, g_bearings.view(), x, {}, table, beam));
+    d.add(beam_range_finder_model(b, g_bearings.view(), readings, x, {}, table, beam));
+  }
+  return d.value();
+}
+
+}  // namespace est::selftest
