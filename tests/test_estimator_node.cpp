@@ -66,6 +66,19 @@ std::string replay_cmd(const std::string& in, const std::string& out, const std:
          pose_arg(stream().start) + " " + extra;
 }
 
+// The largest position and heading errors of the estimates against the truth at their times.
+template <typename Estimates>
+std::pair<double, double> worst_errors(const Estimates& est, const OfficeStream& s) {
+  double worst_m = 0.0, worst_rad = 0.0;
+  for (const auto& e : est) {
+    const std::size_t k = static_cast<std::size_t>((e.stamp_ns - s.truth_t.front()) / (10 * hal::kNsPerMs));
+    REQUIRE(k < s.truth.size());
+    worst_m = std::max(worst_m, static_cast<double>(std::hypot(e.x_m - s.truth[k].x, e.y_m - s.truth[k].y)));
+    worst_rad = std::max(worst_rad, std::fabs(wrap_angle(static_cast<double>(e.theta_rad - s.truth[k].theta))));
+  }
+  return {worst_m, worst_rad};
+}
+
 }  // namespace
 
 TEST_CASE("replaying the same log twice gives byte-identical output logs that track the truth", "[node]") {
@@ -80,13 +93,7 @@ TEST_CASE("replaying the same log twice gives byte-identical output logs that tr
   // tracking error of this 500-particle filter is ~0.05 m; the bound leaves room for its spread, not for a failure).
   const auto est = read_estimates(tmp("a.lcmlog"));
   REQUIRE(est.size() >= 590u);  // 6 s at 100 Hz, plus one per scan
-  double worst_m = 0.0, worst_rad = 0.0;
-  for (const auto& e : est) {
-    const std::size_t k = static_cast<std::size_t>((e.stamp_ns - s.truth_t.front()) / (10 * hal::kNsPerMs));
-    REQUIRE(k < s.truth.size());
-    worst_m = std::max(worst_m, static_cast<double>(std::hypot(e.x_m - s.truth[k].x, e.y_m - s.truth[k].y)));
-    worst_rad = std::max(worst_rad, std::fabs(wrap_angle(static_cast<double>(e.theta_rad - s.truth[k].theta))));
-  }
+  const auto [worst_m, worst_rad] = worst_errors(est, s);
   INFO("worst position error " << worst_m << " m, heading " << worst_rad << " rad");
   CHECK(worst_m < 0.3);
   CHECK(worst_rad < 0.15);
@@ -106,13 +113,7 @@ TEST_CASE("with the EKF (--filter ekf) a replay of landmark sightings is determi
   CHECK(read_text(tmp("ekf_a.lcmlog")) == read_text(tmp("ekf_b.lcmlog")));
   const auto est = read_estimates(tmp("ekf_a.lcmlog"));
   REQUIRE(est.size() >= 595u);  // 6 s at 100 Hz (sightings fall on prediction times)
-  double worst_m = 0.0, worst_rad = 0.0;
-  for (const auto& e : est) {
-    const std::size_t k = static_cast<std::size_t>((e.stamp_ns - s.truth_t.front()) / (10 * hal::kNsPerMs));
-    REQUIRE(k < s.truth.size());
-    worst_m = std::max(worst_m, static_cast<double>(std::hypot(e.x_m - s.truth[k].x, e.y_m - s.truth[k].y)));
-    worst_rad = std::max(worst_rad, std::fabs(wrap_angle(static_cast<double>(e.theta_rad - s.truth[k].theta))));
-  }
+  const auto [worst_m, worst_rad] = worst_errors(est, s);
   // Posts 5 cm / 1.1 deg apart from the truth seen at 5 Hz: the EKF stays within centimetres (worst measured 0.03 m,
   // 0.053 rad; the heading is the weaker, with the node's odometry noise larger than the robot's).
   INFO("worst position error " << worst_m << " m, heading " << worst_rad << " rad");

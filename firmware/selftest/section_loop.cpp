@@ -6,6 +6,7 @@
 #include "est/motion/diff_drive_model.hpp"
 #include "est/random/samplers.hpp"
 #include "est/util/digest.hpp"
+#include "loop_digest.hpp"
 #include "selftest.hpp"
 
 namespace est::selftest {
@@ -29,25 +30,6 @@ using Loop = Configured::Loop;
 OccupancyGridStorage<50, 40> g_grid;
 DistanceTransformStorage<50, 40> g_edt;
 LikelihoodField g_field;
-
-struct Sink {
-  Digest* d;
-  std::uint32_t outputs;
-  void operator()(const loop::LoopOutput& o) {
-    d->add_u32(static_cast<std::uint32_t>(o.t_ns / 1000));
-    d->add(o.estimate.mean.x);
-    d->add(o.estimate.mean.y);
-    d->add(o.estimate.mean.theta);
-    d->add_matrix(o.estimate.covariance);
-    d->add_u32(o.status);
-    ++outputs;
-  }
-};
-
-struct StepClock {  // the loop reads time only to time its steps
-  loop::TimeNs t = 0;
-  loop::TimeNs operator()() { return t += 1000; }
-};
 
 }  // namespace
 
@@ -85,8 +67,8 @@ std::uint64_t section_loop() {
   Loop lp(estimator, Configured::kTiming);
 
   Digest d;
-  Sink sink{&d, 0u};
-  StepClock clock;
+  LoopDigestSink sink{&d, 0u};
+  LoopStepClock clock;
   Rng world(5u);
   const float m_per_tick = kTwoPi * cfg.motion.wheel_radius / static_cast<float>(cfg.motion.ticks_per_rev);
   Pose2 truth{1.0f, 1.0f, 0.0f};

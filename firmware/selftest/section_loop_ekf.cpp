@@ -3,6 +3,7 @@
 #include "est/motion/diff_drive_model.hpp"
 #include "est/random/samplers.hpp"
 #include "est/util/digest.hpp"
+#include "loop_digest.hpp"
 #include "selftest.hpp"
 
 namespace est::selftest {
@@ -17,25 +18,6 @@ struct LoopConfig {
   static constexpr loop::LoopTiming kTiming{};
 };
 using Configured = loop::ConfiguredLoop<LoopConfig>;
-
-struct Sink {
-  Digest* d;
-  std::uint32_t outputs;
-  void operator()(const loop::LoopOutput& o) {
-    d->add_u32(static_cast<std::uint32_t>(o.t_ns / 1000));
-    d->add(o.estimate.mean.x);
-    d->add(o.estimate.mean.y);
-    d->add(o.estimate.mean.theta);
-    d->add_matrix(o.estimate.covariance);
-    d->add_u32(o.status);
-    ++outputs;
-  }
-};
-
-struct StepClock {
-  loop::TimeNs t = 0;
-  loop::TimeNs operator()() { return t += 1000; }
-};
 
 const Landmark kLandmarks[6] = {{0.0f, 0.0f, 1.0f}, {5.0f, 0.0f, 2.0f}, {5.0f, 4.0f, 3.0f},
                                 {0.0f, 4.0f, 4.0f}, {2.5f, -1.0f, 5.0f}, {2.5f, 5.0f, 6.0f}};
@@ -60,8 +42,8 @@ std::uint64_t section_loop_ekf() {
   Configured::Loop lp(estimator, Configured::kTiming);
 
   Digest d;
-  Sink sink{&d, 0u};
-  StepClock clock;
+  LoopDigestSink sink{&d, 0u};
+  LoopStepClock clock;
   Rng world(9u);
   const float m_per_tick = diff_drive_m_per_tick(cfg.motion);
   Pose2 truth{1.0f, 1.0f, 0.0f};
