@@ -67,6 +67,9 @@ RecordSummary record_lcm_log(const SensorStream& s, const std::string& path) {
         break;
       case StreamKind::steering: w.write(ch.steering, e.arrival_ns, hal::lcm::to_lcm(e.steering), summary); break;
       case StreamKind::scan: w.write(ch.range_scan, e.arrival_ns, hal::lcm::to_lcm(s.scans[e.scan].view()), summary); break;
+      case StreamKind::landmarks:
+        w.write(ch.landmarks, e.arrival_ns, hal::lcm::to_lcm(s.sightings[e.sighting].view()), summary);
+        break;
     }
   }
   truth_until(s.end_ns);
@@ -85,7 +88,7 @@ std::string record_sidecar_json(const SensorStream& s, const ScenarioConfig& sc,
                    {"start_pose", {s.truth.front().pose.x, s.truth.front().pose.y, s.truth.front().pose.theta}},
                    {"kidnap_at_s", s.kidnap_ns >= 0 ? static_cast<double>(s.kidnap_ns - kSimStartNs) * 1e-9 : -1.0}};
   j["channels"] = {{"wheel_ticks", ch.wheel_ticks}, {"steering", ch.steering}, {"range_scan", ch.range_scan},
-                   {"ground_truth", ch.ground_truth}};
+                   {"landmarks", ch.landmarks},     {"ground_truth", ch.ground_truth}};
   j["messages"] = summary.messages;
   j["events"] = summary.events;
   j["encoder"] = {{"counter_bits", kEncoderCounterBits},
@@ -94,6 +97,14 @@ std::string record_sidecar_json(const SensorStream& s, const ScenarioConfig& sc,
                   {"max_ticks_per_s", s.limits.wheels.max_ticks_per_s}};
   j["rangefinder_mount"] = {s.mount.x, s.mount.y, s.mount.theta};
   j["steering_max_angle_rad"] = s.limits.steering.max_angle_rad;
+  j["landmark_sensor"] = {{"landmarks_in_map", s.landmark_count},
+                          {"rate_hz", s.landmark_count > 0 ? sc.landmark_hz : 0},
+                          {"ids", sc.landmark_ids_known ? "known" : "unknown"},
+                          {"max_range_m", sc.landmark_sensor.max_range},
+                          {"sigma_range_m", sc.landmark_sensor.noise.sigma_range},
+                          {"sigma_bearing_rad", sc.landmark_sensor.noise.sigma_bearing},
+                          {"sigma_signature", sc.landmark_sensor.noise.sigma_signature},
+                          {"hal_max_range_m", s.limits.landmarks.max_range_m}};
   nlohmann::ordered_json faults = nlohmann::ordered_json::array();
   for (const InjectedFault& f : s.faults)
     faults.push_back({{"t_s", static_cast<double>(f.t_ns - kSimStartNs) * 1e-9}, {"fault", f.key},
@@ -118,6 +129,13 @@ std::string record_sidecar_json(const SensorStream& s, const ScenarioConfig& sc,
          << m.diff_filter.travel_sigma_per_m << " --travel-sigma-floor " << m.diff_filter.travel_sigma_floor
          << " --rot-sigma " << m.diff_filter.final_rot_sigma;
   j["estimator_node_options"] = node.str();
+  if (s.landmark_count > 0 && sc.map_yaml.empty())
+    j["estimator_node_options_ekf"] =
+        node.str() + " --filter ekf --landmarks office --landmark-sigma-range " +
+        std::to_string(sc.landmark_sensor.noise.sigma_range) + " --landmark-sigma-bearing " +
+        std::to_string(sc.landmark_sensor.noise.sigma_bearing) + " --landmark-sigma-signature " +
+        std::to_string(sc.landmark_ids_known ? 0.0f : sc.landmark_sensor.noise.sigma_signature) +
+        " --landmark-max-range " + std::to_string(s.limits.landmarks.max_range_m);
   j["note"] = "expected_reject_counts hold when the log is replayed through hal::ValidatedInputs with the HAL clock at "
               "each event's time (the arrival) and the loop's 20 ms reorder window; hal.* keys are hal::Fault reasons "
               "per input kind, loop.too_old the FilterLoop's counter. A replay that takes each message's own stamp as the HAL "

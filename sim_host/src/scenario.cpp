@@ -40,11 +40,20 @@ const std::vector<FaultClassInfo>& fault_catalogue() {
       {"scan.from_future", "stamped 1 s ahead of the clock", "hal.scan.from_future"},
       {"scan.nan_scan", "every reading is NaN", "hal.scan.too_few_valid_beams"},
       {"scan.nan_beams", "10 % of the readings are NaN (the scan stays usable)", "hal.scan.beams_nan"},
+      {"landmarks.dropped", "the sighting is lost", "-"},
+      {"landmarks.duplicate", "the sighting is delivered twice", "hal.landmarks.duplicate"},
+      {"landmarks.stale", "delivered 300 ms after its stamp", "hal.landmarks.stale"},
+      {"landmarks.late", "delivered 60 ms late: beyond the loop's reorder window (EKF; MCL drops sightings)",
+       "loop.too_old"},
+      {"landmarks.from_future", "stamped 1 s ahead of the clock", "hal.landmarks.from_future"},
+      {"landmarks.nan", "one feature's range is NaN (the others pass)", "hal.landmarks.not_finite"},
+      {"landmarks.range_spike", "one feature reads 3x the sensor's reach (the others pass)",
+       "hal.landmarks.out_of_range"},
   };
   return c;
 }
 
-FaultCounts default_fault_counts(RobotKind robot) {
+FaultCounts default_fault_counts(RobotKind robot, bool landmarks) {
   FaultCounts f = {
       {"wheel_ticks.dropped", 5}, {"wheel_ticks.duplicate", 3}, {"wheel_ticks.stale", 2},
       {"wheel_ticks.late", 2},    {"wheel_ticks.time_backwards", 2}, {"wheel_ticks.from_future", 1},
@@ -58,6 +67,12 @@ FaultCounts default_fault_counts(RobotKind robot) {
                            {"steering.late", 1},     {"steering.reordered", 2},      {"steering.time_backwards", 2},
                            {"steering.from_future", 1}, {"steering.nan", 3},         {"steering.spike", 2}};
     f.insert(s.begin(), s.end());
+  }
+  if (landmarks) {
+    const FaultCounts l = {{"landmarks.dropped", 3},        {"landmarks.duplicate", 2}, {"landmarks.stale", 2},
+                           {"landmarks.late", 1},           {"landmarks.from_future", 1},
+                           {"landmarks.nan", 2},            {"landmarks.range_spike", 2}};
+    f.insert(l.begin(), l.end());
   }
   return f;
 }
@@ -81,6 +96,7 @@ SimWorld load_world(const ScenarioConfig& config) {
     w.name = "office";
     w.grid = office.grid();
     w.edt = office.edt();
+    w.landmarks = office.landmarks();
     w.route = std::make_unique<est::sim::Route>(config.route.empty() ? office.route : est::sim::Route(config.route));
     return w;
   }

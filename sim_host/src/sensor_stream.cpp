@@ -12,6 +12,7 @@
 #include "est/loop/filter_loop.hpp"
 #include "est/random/samplers.hpp"
 #include "est/random/xoshiro128.hpp"
+#include "world/landmark_sensor.hpp"
 #include "world/robots.hpp"
 
 namespace sim {
@@ -24,6 +25,7 @@ constexpr float kSimStepS = 0.01f;
 constexpr hal::TimeNs kLatencyWheels = 1 * kMs;
 constexpr hal::TimeNs kLatencySteering = 1 * kMs;
 constexpr hal::TimeNs kLatencyScan = 12 * kMs;
+constexpr hal::TimeNs kLatencyLandmarks = 15 * kMs;  // a camera frame's marker detection
 constexpr hal::TimeNs kStaleDelay = 300 * kMs;
 constexpr hal::TimeNs kLateDelay = 60 * kMs;
 constexpr hal::TimeNs kFutureOffset = 1000 * kMs;
@@ -32,6 +34,8 @@ constexpr std::uint32_t kCounterStart = 0xffffc000u;  // 16384 ticks before the 
 constexpr int kFaultSpacing = 4;                      // samples between two faults of one stream
 constexpr float kSteeringSpikeRad = 2.5f;
 constexpr float kNanBeamFraction = 0.1f;
+constexpr float kLandmarkSpikeFactor = 3.0f;          // a range_spike feature reads this times the sensor's reach
+constexpr float kLandmarkRangeMargin = 1.0f;          // the HAL accepts features this far beyond the reach (noise)
 
 float wrap(float a) { return std::remainder(a, 6.28318530717958647692f); }
 
@@ -50,11 +54,14 @@ struct Interval {
 };
 
 // Sample indices for the faults of one stream: at least kFaultSpacing apart, clear of the first and last second and
-// of the excluded intervals (the burst), each drawn uniformly from the slots still free. Fails only when none is.
+// of the excluded intervals (the burst), and where `eligible` is given only where it is set, each drawn uniformly
+// from the slots still free. Fails only when none is.
 Schedule place_faults(const StreamSpec& s, const FaultCounts& counts, const std::vector<Interval>& exclude,
-                      est::Rng& rng) {
+                      est::Rng& rng, const std::vector<char>* eligible = nullptr) {
   Schedule out;
-  const int margin = std::max(kFaultSpacing, static_cast<int>(hal::kNsPerS / s.period));
+  // Sightings come 5 a second: two apart keeps the sample before a fault clean, which is all their classes need.
+  const int spacing = s.kind == StreamKind::landmarks ? 2 : kFaultSpacing;
+  const int margin = std::max(spacing, static_cast<int>(hal::kNsPerS / s.period));
   const std::string prefix = std::string(s.name) + ".";
   std::vector<int> free;
   for (const auto& [key, n] : counts) {
@@ -64,10 +71,10 @@ Schedule place_faults(const StreamSpec& s, const FaultCounts& counts, const std:
       free.clear();
       for (int j = margin; j < s.count - margin; ++j) {
         const hal::TimeNs t = kSimStartNs + static_cast<hal::TimeNs>(j) * s.period;
-        bool ok = true;
+        bool ok = eligible == nullptr || (*eligible)[static_cast<std::size_t>(j)] != 0;
         for (const Interval& x : exclude) ok = ok && !(t >= x.from && t < x.to);
-        const auto near = out.lower_bound(j - kFaultSpacing + 1);
-        if (near != out.end() && near->first < j + kFaultSpacing) ok = false;
+        const auto near = out.lower_bound(j - spacing + 1);
+        if (near != out.end() && near->first < j + spacing) ok = false;
         if (ok) free.push_back(j);
       }
       if (free.empty())
@@ -126,6 +133,7 @@ const char* to_string(StreamKind k) {
     case StreamKind::wheel_ticks: return "wheel_ticks";
     case StreamKind::steering: return "steering";
     case StreamKind::scan: return "scan";
+    case StreamKind::landmarks: return "landmarks";
   }
   return "unknown";
 }
@@ -162,8 +170,15 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
   // Configuration checks.
   if (!(c.duration_s > 0.0 && c.duration_s <= 3600.0)) throw std::invalid_argument("--duration must be in (0, 3600] s");
   if (!(c.speed_mps > 0.0 && c.speed_mps <= 3.0)) throw std::invalid_argument("--speed must be in (0, 3] m/s");
-  for (int hz : {c.encoder_hz, c.steering_hz, c.scan_hz})
+  for (int hz : {c.encoder_hz, c.steering_hz, c.scan_hz, c.landmark_hz})
     if (hz <= 0 || 100 % hz != 0) throw std::invalid_argument("sensor rates must divide 100 Hz (1, 2, 4, 5, 10, 20, 25, 50, 100)");
+  const est::sim::LandmarkSensorSpec& lms = c.landmark_sensor;
+  if (!(lms.noise.sigma_range > 0.0f) || !(lms.noise.sigma_bearing > 0.0f) || !(lms.noise.sigma_signature >= 0.0f) ||
+      !std::isfinite(lms.noise.sigma_range) || !std::isfinite(lms.noise.sigma_bearing) ||
+      !std::isfinite(lms.noise.sigma_signature))
+    throw std::invalid_argument("--landmark-range-sigma and --landmark-bearing-sigma must be positive and finite");
+  if (!(lms.max_range > 0.0f && lms.max_range <= 100.0f) || !(lms.fov > 0.0f && lms.fov <= 6.2832f))
+    throw std::invalid_argument("the landmark sensor's reach must be in (0, 100] m and its field of view in (0, 360] deg");
   if (c.beams < 10 || c.beams > 1440) throw std::invalid_argument("--beams must be in [10, 1440]");
   if (!(c.fov_deg > 0.0 && c.fov_deg <= 360.0)) throw std::invalid_argument("--fov-deg must be in (0, 360]");
   if (!(c.range_max_m > 0.5 && c.range_max_m <= 100.0)) throw std::invalid_argument("--range-max must be in (0.5, 100] m");
@@ -174,6 +189,8 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
     if (n < 0) throw std::invalid_argument("fault count of '" + key + "' is negative");
     if (n > 0 && c.robot == RobotKind::diff_drive && key.rfind("steering.", 0) == 0)
       throw std::invalid_argument("'" + key + "': the differential drive has no steering sensor");
+    if (n > 0 && world.landmarks.size() == 0 && key.rfind("landmarks.", 0) == 0)
+      throw std::invalid_argument("'" + key + "': this world has no landmarks (a ROS map): no landmark sightings");
   }
 
   const RobotModels models = robot_models();
@@ -181,6 +198,7 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
   const est::sim::Route& route = *world.route;
   const int steps = static_cast<int>(std::lround(c.duration_s / static_cast<double>(kSimStepS)));
   const int enc_div = 100 / c.encoder_hz, steer_div = 100 / c.steering_hz, scan_div = 100 / c.scan_hz;
+  const int mark_div = 100 / c.landmark_hz;
 
   SensorStream s;
   s.route_waypoints = route.size();
@@ -194,17 +212,25 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
   s.limits.wheels.max_ticks_per_s = static_cast<std::uint32_t>(std::ceil(3.0 * wheel_speed_max / s.metres_per_tick));
   s.limits.steering.max_angle_rad = models.bicycle_truth.steer_max;
   s.limits.scan.max_beams = static_cast<std::size_t>(std::max(1081, c.beams));
+  s.landmark_count = static_cast<std::size_t>(world.landmarks.size());
+  s.limits.landmarks.max_range_m = lms.max_range + kLandmarkRangeMargin;
+  s.limits.landmarks.max_id = std::max<std::int32_t>(0, world.landmarks.size() - 1);
+  s.limits.landmarks.timing = s.limits.wheels.timing;
 
   const StreamSpec wheels{StreamKind::wheel_ticks, "wheel_ticks", enc_div * kSimStepNs, kLatencyWheels,
                           steps / enc_div};
   const StreamSpec steering{StreamKind::steering, "steering", steer_div * kSimStepNs, kLatencySteering,
                             bicycle ? steps / steer_div : 0};
   const StreamSpec scans{StreamKind::scan, "scan", scan_div * kSimStepNs, kLatencyScan, steps / scan_div};
+  const StreamSpec marks{StreamKind::landmarks, "landmarks", mark_div * kSimStepNs, kLatencyLandmarks,
+                         world.landmarks.size() > 0 ? steps / mark_div : 0};
 
   est::Rng truth_rng = est::Rng::stream(c.seed, 1);
   est::Rng range_rng = est::Rng::stream(c.seed, 2);
   est::Rng odo_rng = est::Rng::stream(c.seed, 3);
   est::Rng fault_rng = est::Rng::stream(c.seed, 4);
+  est::Rng landmark_rng = est::Rng::stream(c.seed, 5);
+  est::Rng landmark_fault_rng = est::Rng::stream(c.seed, 6);
 
   // Events: the burst (bus outage), slips, the kidnapping.
   std::vector<Interval> burst;
@@ -302,6 +328,8 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
       shift = kFutureOffset;
     } else if (cls == "nan") {
       f.expected = hal_prefix + "not_finite";
+    } else if (cls == "range_spike") {
+      f.expected = hal_prefix + "out_of_range";
     } else if (cls == "spike") {
       f.expected = hal_prefix + "out_of_range";
     } else if (cls == "counter_jump") {
@@ -316,7 +344,12 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
     if (deliver) {
       StreamEvent e = make(t + shift);
       e.arrival_ns = t + delay;
-      if (cls == "nan") e.steering.angle_rad = std::numeric_limits<float>::quiet_NaN();
+      if (cls == "nan" && spec.kind == StreamKind::steering) e.steering.angle_rad = std::numeric_limits<float>::quiet_NaN();
+      if ((cls == "nan" || cls == "range_spike") && spec.kind == StreamKind::landmarks) {
+        // The first feature only: a sighting that is eligible for a fault has another one, which passes.
+        s.sightings[e.sighting].features.front().range_m =
+            cls == "nan" ? std::numeric_limits<float>::quiet_NaN() : kLandmarkSpikeFactor * lms.max_range;
+      }
       if (cls == "spike") e.steering.angle_rad = kSteeringSpikeRad;
       if (cls == "nan_scan" || cls == "nan_beams") {
         ScanRecord copy = s.scans[e.scan];
@@ -335,6 +368,9 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
         s.scans.push_back(std::move(copy));
         e.scan = s.scans.size() - 1;
       }
+      // The loop takes a sighting as one input per feature: a late one is too old once per feature.
+      if (spec.kind == StreamKind::landmarks && f.expected.rfind("loop.", 0) == 0)
+        f.amount = static_cast<int>(s.sightings[e.sighting].features.size());
       const int fault_index = static_cast<int>(s.faults.size());
       if (cls == "duplicate") {
         push(e);
@@ -449,12 +485,58 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
     }
   }
 
+  // Landmark sightings from the truth of every sample time (after the kidnapping's teleport, silent in the outage),
+  // each drawn whether or not it is delivered, from its own generators so the other streams' draws do not move.
+  if (marks.count > 0) {
+    std::vector<std::vector<hal::LandmarkFeature>> seen(static_cast<std::size_t>(marks.count));
+    std::vector<est::sim::Sighting> sighted;
+    for (int j = 0; j < marks.count; ++j) {
+      const std::size_t k = static_cast<std::size_t>(j) * static_cast<std::size_t>(mark_div);
+      est::sim::simulate_landmarks(world.grid, world.landmarks, s.truth[k].pose, lms, landmark_rng, sighted);
+      for (const est::sim::Sighting& x : sighted)
+        seen[static_cast<std::size_t>(j)].push_back(
+            {x.f.range, x.f.bearing, x.f.signature, c.landmark_ids_known ? x.c : std::int32_t{-1}});
+    }
+    // A fault goes to a sighting of two or more features (a content fault leaves one that passes) whose predecessor
+    // was delivered (so the HAL's timing checks compare with the sample one period before).
+    std::vector<char> eligible(static_cast<std::size_t>(marks.count), 0);
+    const auto delivered = [&](int j) {
+      return !seen[static_cast<std::size_t>(j)].empty() &&
+             !in_any(burst, kSimStartNs + static_cast<hal::TimeNs>(j) * marks.period);
+    };
+    for (int j = 1; j < marks.count; ++j)
+      eligible[static_cast<std::size_t>(j)] = delivered(j) && delivered(j - 1) && seen[static_cast<std::size_t>(j)].size() >= 2u;
+    const Schedule mark_faults = place_faults(marks, c.faults, exclude, landmark_fault_rng, &eligible);
+    for (int j = 0; j < marks.count; ++j) {
+      if (!delivered(j)) continue;  // a sensor that sees nothing sends nothing
+      const hal::TimeNs t = kSimStartNs + static_cast<hal::TimeNs>(j) * marks.period;
+      emit(marks, mark_faults, j, t, [&](hal::TimeNs stamp) {
+        SightingRecord r;
+        r.stamp_ns = stamp;
+        r.features = seen[static_cast<std::size_t>(j)];
+        s.sightings.push_back(std::move(r));
+        StreamEvent e;
+        e.kind = StreamKind::landmarks;
+        e.sighting = s.sightings.size() - 1;
+        return e;
+      });
+    }
+  }
+
   std::stable_sort(events.begin(), events.end(), [](const auto& a, const auto& b) {
     return a.first.arrival_ns != b.first.arrival_ns ? a.first.arrival_ns < b.first.arrival_ns : a.second < b.second;
   });
   s.events.reserve(events.size());
   for (auto& e : events) s.events.push_back(e.first);
   return s;
+}
+
+void expect_loop_inputs(SensorStream& stream, bool uses_scans, bool uses_landmarks) {
+  for (InjectedFault& f : stream.faults) {
+    if (f.expected.rfind("loop.", 0) != 0) continue;
+    if ((!uses_scans && f.key.rfind("scan.", 0) == 0) || (!uses_landmarks && f.key.rfind("landmarks.", 0) == 0))
+      f.expected = "-";
+  }
 }
 
 }  // namespace sim

@@ -1,4 +1,5 @@
-// The host simulation run: stream -> hal::ValidatedInputs -> hal::LoopPort -> est::loop::FilterLoop(MclEstimator).
+// The host simulation run: stream -> hal::ValidatedInputs -> hal::LoopPort -> est::loop::FilterLoop(MclEstimator or
+// EkfEstimator, chosen through est::loop::ConfiguredLoop).
 #include "sim/simulate.hpp"
 
 #include <algorithm>
@@ -9,8 +10,7 @@
 #include <type_traits>
 
 #include "est/filter/free_space_sampler.hpp"
-#include "est/loop/filter_loop.hpp"
-#include "est/loop/mcl_estimator.hpp"
+#include "est/loop/configured_loop.hpp"
 #include "est/motion/bicycle_model.hpp"
 #include "est/motion/diff_drive_model.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
@@ -55,67 +55,126 @@ est::BicycleParams filter_params<est::BicycleMotionModel>(const RobotModels& m) 
 template <>
 est::DiffDriveParams filter_params<est::DiffDriveMotionModel>(const RobotModels& m) { return m.diff_filter; }
 
+// The firmware's static configuration of a simulation run (est/loop/configured_loop.hpp): the robot model and the
+// filter, estimator_node's capacities with room for 1440 beams, the loop's default rates and limits.
+template <typename RobotModel, est::loop::Filter F>
+struct SimLoopConfig {
+  using Model = RobotModel;
+  static constexpr est::loop::Filter kFilter = F;
+  static constexpr std::uint32_t kMaxParticles = sim::kMaxParticles;
+  static constexpr std::int32_t kMaxBeams = sim::kMaxBeams;
+  static constexpr std::uint32_t kQueueCapacity = sim::kQueueCapacity;
+  static constexpr std::uint32_t kScanSlots = sim::kScanSlots;
+  static constexpr est::loop::LoopTiming kTiming{};
+};
+
 template <typename Model>
+void set_odometry(const SensorStream& s, typename est::loop::OdometryControl<Model>::Config& o) {
+  if constexpr (std::is_same_v<Model, est::BicycleMotionModel>) o.metres_per_tick = static_cast<float>(s.metres_per_tick);
+  (void)s;
+  (void)o;
+}
+
+// Every n-th particle, at most kSnapshotPoints.
+template <typename Estimator>
+ParticleSnapshot snapshot(const Estimator& estimator, hal::TimeNs t, const std::string& label, const est::Pose2& truth,
+                          const est::Pose2& estimate) {
+  const est::ConstParticleSetView p = estimator.filter().particles();
+  ParticleSnapshot snap;
+  snap.t_ns = t;
+  snap.label = label;
+  snap.total = p.count;
+  snap.truth = truth;
+  snap.estimate = estimate;
+  const std::uint32_t step = std::max<std::uint32_t>(1u, (p.count + kSnapshotPoints - 1u) / kSnapshotPoints);
+  for (std::uint32_t i = 0; i < p.count; i += step) snap.particles.push_back({p.x[i], p.y[i], p.theta[i]});
+  return snap;
+}
+
+// The map models MCL needs (the EKF needs only the world's landmarks).
+struct MclMapModels {
+  est::LikelihoodField field;
+  est::FreeSpaceSampler free_space;
+};
+
+template <typename Model, est::loop::Filter F>
 void run_model(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorld& world, SimResult& r) {
-  using Estimator = est::loop::MclEstimator<Model, kMaxParticles, kMaxBeams>;
-  using Loop = est::loop::FilterLoop<Estimator, kQueueCapacity, kMaxBeams, kScanSlots>;
+  using Configured = est::loop::ConfiguredLoop<SimLoopConfig<Model, F>>;
+  using Estimator = typename Configured::Estimator;
+  using Loop = typename Configured::Loop;
   using Port = hal::LoopPort<Estimator, kQueueCapacity, kMaxBeams, kScanSlots>;
+  static_assert(std::is_same_v<typename Port::Loop, Loop>, "one loop type");
+  constexpr bool kMcl = F == est::loop::Filter::mcl;
   const SensorStream& s = r.stream;
 
-  // The models of the map, as the node builds them.
-  auto field = std::make_unique<est::LikelihoodField>();
-  est::LikelihoodFieldParams lp;
-  lp.z_hit = 0.85f;
-  lp.z_max = 0.05f;
-  lp.z_rand = 0.10f;
-  lp.sigma_hit = 0.2f;
-  lp.range_max = static_cast<float>(sc.range_max_m);
-  lp.max_distance = 2.0f;
-  if (field->configure(lp, world.grid, world.edt) != est::SensorModelStatus::ok)
-    throw std::runtime_error("the likelihood field could not be configured for this map");
-  const est::FreeSpaceSampler free_space(world.grid, world.edt, fo.clearance_m);
-  if (!free_space.valid()) throw std::runtime_error("the map has no valid free space");
-
-  est::loop::MclEstimatorConfig<Model> ec;
-  ec.mcl.kld = fo.kld;
-  ec.mcl.kld_config.n_min = fo.kld_min;
-  ec.mcl.alpha_slow = fo.alpha_slow;
-  ec.mcl.alpha_fast = fo.alpha_fast;
-  ec.mcl.max_injection_fraction = fo.max_injection;
+  typename Configured::EstimatorConfig ec;
   ec.motion = filter_params<Model>(robot_models());
-  if constexpr (std::is_same_v<Model, est::BicycleMotionModel>)
-    ec.odometry.metres_per_tick = static_cast<float>(s.metres_per_tick);
-  ec.sensor_mount = s.mount;
-  ec.beam_stride = fo.beam_stride;
-  ec.cluster_cell = 1.0f;
+  set_odometry<Model>(s, ec.odometry);
+  std::unique_ptr<MclMapModels> maps;
+  std::unique_ptr<Estimator> estimator;
+  if constexpr (kMcl) {
+    // The models of the map, as the node builds them.
+    maps = std::make_unique<MclMapModels>();
+    est::LikelihoodFieldParams lp;
+    lp.z_hit = 0.85f;
+    lp.z_max = 0.05f;
+    lp.z_rand = 0.10f;
+    lp.sigma_hit = 0.2f;
+    lp.range_max = static_cast<float>(sc.range_max_m);
+    lp.max_distance = 2.0f;
+    if (maps->field.configure(lp, world.grid, world.edt) != est::SensorModelStatus::ok)
+      throw std::runtime_error("the likelihood field could not be configured for this map");
+    maps->free_space = est::FreeSpaceSampler(world.grid, world.edt, fo.clearance_m);
+    if (!maps->free_space.valid()) throw std::runtime_error("the map has no valid free space");
 
-  if (fo.particles == 0 || fo.particles > kMaxParticles)
-    throw std::invalid_argument("--particles must be in [1, " + std::to_string(kMaxParticles) + "]");
-  auto estimator = std::make_unique<Estimator>(ec, sc.seed, *field, free_space);
-  if (fo.start == StartKind::global)
-    estimator->initialize_global(fo.particles);
-  else
-    estimator->initialize_at(s.truth.front().pose, 0.2f, 0.1f, fo.particles);
+    ec.mcl.kld = fo.kld;
+    ec.mcl.kld_config.n_min = fo.kld_min;
+    ec.mcl.alpha_slow = fo.alpha_slow;
+    ec.mcl.alpha_fast = fo.alpha_fast;
+    ec.mcl.max_injection_fraction = fo.max_injection;
+    ec.sensor_mount = s.mount;
+    ec.beam_stride = fo.beam_stride;
+    ec.cluster_cell = 1.0f;
 
-  auto loop = std::make_unique<Loop>(*estimator, est::loop::LoopTiming{});
+    if (fo.particles == 0 || fo.particles > kMaxParticles)
+      throw std::invalid_argument("--particles must be in [1, " + std::to_string(kMaxParticles) + "]");
+    estimator = std::make_unique<Estimator>(ec, sc.seed, maps->field, maps->free_space);
+    if (fo.start == StartKind::global)
+      estimator->initialize_global(fo.particles);
+    else
+      estimator->initialize_at(s.truth.front().pose, 0.2f, 0.1f, fo.particles);
+  } else {
+    // The filter is told the sensor's own noise; the heading noise added per prediction covers what the odometry
+    // model leaves out (the encoders' scale error and slip turn the robot where the model says it drove straight).
+    ec.noise = sc.landmark_sensor.noise;
+    ec.ekf.additive_process_noise(2, 2) = fo.ekf_rot_sigma_rad * fo.ekf_rot_sigma_rad;
+    ec.lost_sigma_m = fo.ekf_lost_sigma_m;
+    estimator = std::make_unique<Estimator>(ec, world.landmarks);
+    if (!estimator->initialize_at(s.truth.front().pose, fo.ekf_start_sigma_xy_m, fo.ekf_start_sigma_theta_rad))
+      throw std::invalid_argument("the EKF's start sigmas must be finite and positive");
+  }
+
+  auto loop = std::make_unique<Loop>(*estimator, Configured::kTiming);
   WallClock wall;
   ArrivalClock arrival;
 
-  // Snapshots of the particle cloud at fixed times of the run.
+  // Snapshots of the particle cloud at fixed times of the run (MCL).
   std::vector<std::pair<hal::TimeNs, std::string>> snap_at;
   const hal::TimeNs t0 = s.truth.front().t_ns, dt = kSimStepNs;
-  snap_at.push_back({t0, "first scan"});
-  snap_at.push_back({t0 + hal::kNsPerS, "1 s"});
-  snap_at.push_back({t0 + 3 * hal::kNsPerS, "3 s"});
-  if (s.kidnap_ns >= 0) {
-    snap_at.push_back({s.kidnap_ns + 3 * dt, "kidnapped + 0.03 s"});
-    snap_at.push_back({s.kidnap_ns + hal::kNsPerS, "kidnapped + 1 s"});
-  } else {
-    snap_at.push_back({t0 + 10 * hal::kNsPerS, "10 s"});
-    snap_at.push_back({(t0 + s.end_ns) / 2, "half-way"});
+  if constexpr (kMcl) {
+    snap_at.push_back({t0, "first scan"});
+    snap_at.push_back({t0 + hal::kNsPerS, "1 s"});
+    snap_at.push_back({t0 + 3 * hal::kNsPerS, "3 s"});
+    if (s.kidnap_ns >= 0) {
+      snap_at.push_back({s.kidnap_ns + 3 * dt, "kidnapped + 0.03 s"});
+      snap_at.push_back({s.kidnap_ns + hal::kNsPerS, "kidnapped + 1 s"});
+    } else {
+      snap_at.push_back({t0 + 10 * hal::kNsPerS, "10 s"});
+      snap_at.push_back({(t0 + s.end_ns) / 2, "half-way"});
+    }
+    snap_at.push_back({s.end_ns - 2 * dt, "end"});
+    std::sort(snap_at.begin(), snap_at.end());
   }
-  snap_at.push_back({s.end_ns - 2 * dt, "end"});
-  std::sort(snap_at.begin(), snap_at.end());
   std::size_t next_snap = 0;
 
   struct Sink final : hal::EstimateSink {
@@ -133,22 +192,16 @@ void run_model(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorld
       row.sigma_x_m = std::sqrt(std::max(0.0f, e.covariance(0, 0)));
       row.sigma_y_m = std::sqrt(std::max(0.0f, e.covariance(1, 1)));
       row.sigma_theta_rad = std::sqrt(std::max(0.0f, e.covariance(2, 2)));
-      const est::ConstParticleSetView p = est->filter().particles();
-      row.particles = p.count;
+      row.cov_xy_m2 = e.covariance(0, 1);
+      if constexpr (kMcl) row.particles = est->filter().particles().count;
       row.status = e.status & ~hal::status::kDeadlineOverrun;
       row.rejected_inputs = e.rejected_inputs;
       r->rows.push_back(row);
-      while (*next_snap < snap_at->size() && e.stamp_ns >= (*snap_at)[*next_snap].first) {
-        ParticleSnapshot snap;
-        snap.t_ns = e.stamp_ns;
-        snap.label = (*snap_at)[*next_snap].second;
-        snap.total = p.count;
-        snap.truth = row.truth;
-        snap.estimate = row.estimate;
-        const std::uint32_t step = std::max<std::uint32_t>(1u, (p.count + kSnapshotPoints - 1u) / kSnapshotPoints);
-        for (std::uint32_t i = 0; i < p.count; i += step) snap.particles.push_back({p.x[i], p.y[i], p.theta[i]});
-        r->snapshots.push_back(std::move(snap));
-        ++*next_snap;
+      if constexpr (kMcl) {
+        while (*next_snap < snap_at->size() && e.stamp_ns >= (*snap_at)[*next_snap].first) {
+          r->snapshots.push_back(snapshot(*est, e.stamp_ns, (*snap_at)[*next_snap].second, row.truth, row.estimate));
+          ++*next_snap;
+        }
       }
     }
   } sink;
@@ -157,28 +210,18 @@ void run_model(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorld
   sink.snap_at = &snap_at;
   sink.next_snap = &next_snap;
 
-  {
-    // The initial belief, before any input.
-    const est::ConstParticleSetView p = estimator->filter().particles();
-    ParticleSnapshot snap;
-    snap.t_ns = t0;
-    snap.label = "initial belief";
-    snap.total = p.count;
-    snap.truth = s.truth.front().pose;
-    snap.estimate = estimator->estimate().mean;
-    const std::uint32_t step = std::max<std::uint32_t>(1u, (p.count + kSnapshotPoints - 1u) / kSnapshotPoints);
-    for (std::uint32_t i = 0; i < p.count; i += step) snap.particles.push_back({p.x[i], p.y[i], p.theta[i]});
-    r.snapshots.push_back(std::move(snap));
-  }
+  if constexpr (kMcl)  // the initial belief, before any input
+    r.snapshots.push_back(snapshot(*estimator, t0, "initial belief", s.truth.front().pose, estimator->estimate().mean));
   Port port(*loop, wall, sink);
   hal::ValidatedInputs inputs(s.limits, arrival, port);
-  r.rows.reserve(static_cast<std::size_t>((s.end_ns - t0) / dt) + s.scans.size() + 16);
+  r.rows.reserve(static_cast<std::size_t>((s.end_ns - t0) / dt) + s.scans.size() + s.sightings.size() + 16);
   for (const StreamEvent& e : s.events) {
     arrival.now = e.arrival_ns;
     switch (e.kind) {
       case StreamKind::wheel_ticks: inputs.on_wheel_ticks(e.ticks); break;
       case StreamKind::steering: inputs.on_steering(e.steering); break;
       case StreamKind::scan: inputs.on_range_scan(s.scans[e.scan].view()); break;
+      case StreamKind::landmarks: inputs.on_landmarks(s.sightings[e.sighting].view()); break;
     }
     port.set_upstream_rejects(inputs.faults().total());
   }
@@ -187,10 +230,17 @@ void run_model(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorld
   r.wheel_faults = inputs.wheels().faults();
   r.steering_faults = inputs.steering().faults();
   r.scan_faults = inputs.scan().faults();
+  r.landmark_faults = inputs.landmarks().faults();
+  r.landmark_features_accepted = inputs.landmarks().features_accepted();
   r.beams = inputs.scan().beams();
   r.loop = loop->counters();
   r.port_rejects = port.rejects();
-  r.mcl = estimator->filter().counters();
+  if constexpr (kMcl) {
+    r.mcl = estimator->filter().counters();
+  } else {
+    r.ekf = estimator->filter().counters();
+    r.ekf_predictions = estimator->filter().prediction_counters();
+  }
   r.nonfinite_estimates = port.nonfinite_estimates();
 }
 
@@ -281,8 +331,10 @@ std::map<std::string, int> SimResult::observed_counts() const {
   const auto add = [&](const std::string& key, std::uint64_t v) {
     if (v > 0) out[key] += static_cast<int>(v);
   };
-  const std::pair<const char*, const hal::FaultCounters*> kinds[] = {
-      {"wheel_ticks", &wheel_faults}, {"steering", &steering_faults}, {"scan", &scan_faults}};
+  const std::pair<const char*, const hal::FaultCounters*> kinds[] = {{"wheel_ticks", &wheel_faults},
+                                                                      {"steering", &steering_faults},
+                                                                      {"scan", &scan_faults},
+                                                                      {"landmarks", &landmark_faults}};
   for (const auto& [name, c] : kinds)
     for (std::size_t i = 1; i < hal::kFaultCount; ++i)
       add(std::string("hal.") + name + "." + hal::to_string(static_cast<hal::Fault>(i)), c->count[i]);
@@ -290,21 +342,43 @@ std::map<std::string, int> SimResult::observed_counts() const {
   add("hal.scan.beams_below_min", beams.below_min);
   add("loop.too_old", loop.too_old);
   add("loop.queue_full", loop.queue_full);
-  add("loop.rejected", loop.rejected);
+  // The EKF's refusals of features (the innovation gate, no landmark in reach) are the filter's decisions on inputs the
+  // HAL passed, not faults of the stream: they are reported with the EKF's counters, not compared with injections.
+  add("loop.rejected", filter == est::loop::Filter::ekf && loop.rejected >= ekf.rejected() ? loop.rejected - ekf.rejected()
+                                                                                         : loop.rejected);
   for (std::size_t i = 1; i < static_cast<std::size_t>(hal::LoopPortReject::kCount); ++i)
     add(std::string("port.") + hal::to_string(static_cast<hal::LoopPortReject>(i)), port_rejects.count[i]);
   return out;
 }
 
+const char* to_string(est::loop::Filter f) { return f == est::loop::Filter::ekf ? "ekf" : "mcl"; }
+
 SimResult run_simulation(const ScenarioConfig& scenario, const FilterOptions& filter, const SimWorld& world) {
   const auto started = std::chrono::steady_clock::now();
   SimResult r;
+  r.filter = filter.filter;
+  const bool ekf = filter.filter == est::loop::Filter::ekf;
+  if (ekf && world.landmarks.size() == 0)
+    throw std::invalid_argument("--filter ekf needs landmarks, and " + world.name +
+                                " has none (a ROS map carries no landmarks): use the synthetic office (no --map)");
+  if (ekf && filter.start == StartKind::global)
+    throw std::invalid_argument("--filter ekf tracks from the true start pose (a Gaussian of sigma 0.2 m, 0.1 rad): "
+                                "--start global needs --filter mcl");
   r.stream = generate_stream(scenario, world);
   if (r.stream.truth.empty()) throw std::invalid_argument("the run has no steps");
-  if (scenario.robot == RobotKind::bicycle)
-    run_model<est::BicycleMotionModel>(scenario, filter, world, r);
-  else
-    run_model<est::DiffDriveMotionModel>(scenario, filter, world, r);
+  expect_loop_inputs(r.stream, !ekf, ekf);
+  using est::loop::Filter;
+  if (scenario.robot == RobotKind::bicycle) {
+    if (ekf)
+      run_model<est::BicycleMotionModel, Filter::ekf>(scenario, filter, world, r);
+    else
+      run_model<est::BicycleMotionModel, Filter::mcl>(scenario, filter, world, r);
+  } else {
+    if (ekf)
+      run_model<est::DiffDriveMotionModel, Filter::ekf>(scenario, filter, world, r);
+    else
+      run_model<est::DiffDriveMotionModel, Filter::mcl>(scenario, filter, world, r);
+  }
   r.metrics = compute_metrics(r, filter);
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return r;

@@ -25,6 +25,7 @@ struct ScenarioOptions {
   std::string plan = "default";
   std::vector<std::string> fault_overrides;
   double range_sigma = 0.02, p_rand = 0.01, p_short = 0.01;
+  std::string landmark_ids = "known";
 };
 
 std::string fault_help() {
@@ -34,7 +35,8 @@ std::string fault_help() {
     s << "  " << f.key << std::string(f.key.size() < 27 ? 27 - f.key.size() : 1, ' ') << f.what << "  [" << f.expected
       << "]\n";
   s << "Events: --kidnap-at (the robot is carried 3 route segments ahead), --burst-at/--burst-ms (every stream\n"
-       "silent: a bus outage), --slip-events (the encoders count --slip-factor more for --slip-duration).\n";
+       "silent: a bus outage), --slip-events (the encoders count --slip-factor more for --slip-duration).\n"
+       "The landmark classes need a world with landmarks (the synthetic office's 16 posts; a ROS map has none).\n";
   return s.str();
 }
 
@@ -72,11 +74,33 @@ void add_scenario_options(CLI::App* c, ScenarioOptions& o) {
   c->add_option("--slip-factor", s.slip_factor, "extra travel counted while slipping")->capture_default_str();
   c->add_option("--steering-sigma-deg", s.steering_sigma_deg, "steering sensor noise, deg")->capture_default_str();
   c->add_option("--steering-bias-deg", s.steering_bias_deg, "steering sensor bias, deg")->capture_default_str();
-  c->add_option("--faults", o.plan, "fault plan: default (58 faults for the bicycle, 41 for the diff drive, over 60 s) or none")
+  c->add_option("--landmark-hz", s.landmark_hz,
+                "landmark sensor rate (divides 100); sightings of the world's landmarks in range, field of view and "
+                "line of sight (the office's 16 posts; a ROS map has none)")
+      ->capture_default_str();
+  c->add_option("--landmark-range-sigma", s.landmark_sensor.noise.sigma_range, "landmark sensor: range noise, m")
+      ->capture_default_str();
+  c->add_option("--landmark-bearing-sigma", s.landmark_sensor.noise.sigma_bearing, "landmark sensor: bearing noise, rad")
+      ->capture_default_str();
+  c->add_option("--landmark-signature-sigma", s.landmark_sensor.noise.sigma_signature,
+                "landmark sensor: signature noise (the office's signatures are 1..16)")
+      ->capture_default_str();
+  c->add_option("--landmark-max-range", s.landmark_sensor.max_range, "landmark sensor: reach, m")->capture_default_str();
+  c->add_option("--landmark-ids", o.landmark_ids,
+                "known: each feature carries its landmark's map index (coded markers); unknown: id -1, the EKF "
+                "associates by maximum likelihood with the signature (Thrun table 7.3)")
+      ->check(CLI::IsMember({"known", "unknown"}))
+      ->capture_default_str();
+  c->add_option("--faults", o.plan,
+                "fault plan: default (58 faults for the bicycle, 41 for the diff drive, over 60 s, and 13 in the "
+                "landmark sightings when the world has landmarks) or none")
       ->check(CLI::IsMember({"default", "none"}))
       ->capture_default_str();
   c->add_option("--fault", o.fault_overrides, "KEY=COUNT: set one fault class's count (repeatable; see below)");
-  c->add_option("--kidnap-at", s.kidnap_at_s, "kidnapping time, s (negative: none)")->capture_default_str();
+  c->add_option("--kidnap-at", s.kidnap_at_s,
+                "kidnapping time, s (negative: none). With --filter ekf the default is none: the EKF tracks one "
+                "Gaussian and cannot recover (given explicitly, the run reports the kidnap phase as not recovered)")
+      ->capture_default_str();
   c->add_option("--burst-at", s.burst_at_s, "bus outage time, s (negative: none)")->capture_default_str();
   c->add_option("--burst-ms", s.burst_ms, "bus outage length, ms")->capture_default_str();
   c->footer(fault_help());
@@ -106,7 +130,8 @@ ScenarioConfig finish_scenario(ScenarioOptions& o) {
   s.range_noise = {static_cast<float>(o.range_sigma), static_cast<float>(o.p_rand), static_cast<float>(o.p_short)};
   if (!(o.range_sigma > 0.0) || o.p_rand < 0.0 || o.p_short < 0.0 || o.p_rand + o.p_short > 1.0)
     throw CLI::ValidationError("--range-sigma/--p-rand/--p-short", "sigma > 0, probabilities >= 0 summing to <= 1");
-  s.faults = o.plan == "default" ? default_fault_counts(s.robot) : FaultCounts{};
+  s.landmark_ids_known = o.landmark_ids == "known";
+  s.faults = o.plan == "default" ? default_fault_counts(s.robot, s.map_yaml.empty()) : FaultCounts{};
   for (const std::string& f : o.fault_overrides) {
     const std::size_t eq = f.find('=');
     if (eq == std::string::npos) throw CLI::ValidationError("--fault", "expected KEY=COUNT, got '" + f + "'");
@@ -127,7 +152,8 @@ std::string num(const char* f, double v) {
 
 void print_summary(const SimResult& r, const ScenarioConfig& sc, const SimWorld& w, const std::string& out) {
   const SimMetrics& m = r.metrics;
-  std::cout << "simulate: " << to_string(sc.robot) << " in " << w.name << ", " << num("%.1f", sc.duration_s)
+  std::cout << "simulate (" << (r.filter == est::loop::Filter::ekf ? "EKF on landmarks" : "MCL on scans")
+            << "): " << to_string(sc.robot) << " in " << w.name << ", " << num("%.1f", sc.duration_s)
             << " s, seed " << sc.seed << ": " << r.rows.size() << " estimates in " << num("%.1f", r.wall_s) << " s ("
             << num("%.1f", sc.duration_s / std::max(r.wall_s, 1e-9)) << "x real time)\n";
   for (const PhaseMetrics& p : m.phases) {
@@ -173,21 +199,30 @@ void add_simulate_command(CLI::App& app) {
   auto opts = std::make_shared<ScenarioOptions>();
   auto filter = std::make_shared<FilterOptions>();
   auto out = std::make_shared<std::string>();
-  auto start = std::make_shared<std::string>("global");
+  auto start = std::make_shared<std::string>();
+  auto filter_kind = std::make_shared<std::string>("mcl");
   auto no_plots = std::make_shared<bool>(false);
   auto no_kld = std::make_shared<bool>(false);
   CLI::App* c = app.add_subcommand(
       "simulate",
       "Host simulation end to end: a robot drives a route in a world; encoder, steering and 2D rangefinder streams "
       "with noise and injected faults go through the HAL gate (hal::ValidatedInputs) and the firmware's filter loop "
-      "(est::loop::FilterLoop + MclEstimator) in process. Writes OUT/trajectory.csv (truth and estimate per output), "
-      "OUT/faults.csv, OUT/metrics.json (RMSE, time to converge and to recover, rejects by reason vs injected "
-      "faults, loop counters) and OUT/trajectory.png, errors.png, particles.png. Same seed: identical CSV.");
+      "(est::loop::FilterLoop + MclEstimator on the scans, or EkfEstimator on landmark sightings with --filter ekf) in "
+      "process. Writes OUT/trajectory.csv (truth and estimate per output), OUT/faults.csv, OUT/metrics.json (RMSE, "
+      "time to converge and to recover, rejects by reason vs injected faults, loop counters) and OUT/trajectory.png, "
+      "errors.png, particles.png (MCL; the EKF draws its 2-sigma ellipses on trajectory.png). Same seed: identical "
+      "CSV.");
   c->add_option("--out", *out, "output directory (created)")->required();
   add_scenario_options(c, *opts);
-  c->add_option("--start", *start, "global (uniform over the free space) or tracking (around the true start)")
-      ->check(CLI::IsMember({"global", "tracking"}))
+  c->add_option("--filter", *filter_kind,
+                "mcl: augmented MCL on the range scans; ekf: EKF localization on the landmark sightings (tracking "
+                "from the true start, sigmas 0.2 m and 0.1 rad; needs a world with landmarks)")
+      ->check(CLI::IsMember({"mcl", "ekf"}))
       ->capture_default_str();
+  c->add_option("--start", *start,
+                "global (uniform over the free space; MCL only) or tracking (around the true start); default: global "
+                "for MCL, tracking for the EKF")
+      ->check(CLI::IsMember({"global", "tracking"}));
   c->add_option("--particles", filter->particles, "initial particles (at most 20000)")->capture_default_str();
   c->add_flag("--no-kld", *no_kld, "keep the particle count fixed (default: KLD-sampling adapts it)");
   c->add_option("--kld-min", filter->kld_min, "KLD-sampling's minimum count")->capture_default_str();
@@ -203,11 +238,20 @@ void add_simulate_command(CLI::App& app) {
   c->add_option("--localized-deg", filter->converge_heading_deg, "localized: heading error below this, deg")
       ->capture_default_str();
   c->add_option("--hold", filter->hold_s, "localized: within both bounds for this long, s")->capture_default_str();
+  c->add_option("--ekf-rot-sigma", filter->ekf_rot_sigma_rad,
+                "EKF: heading noise added to every 10 ms prediction, rad (what the odometry model leaves out)")
+      ->capture_default_str();
   c->add_flag("--no-plots", *no_plots, "skip the PNG figures (no gnuplot needed)");
+  CLI::Option* kidnap_opt = c->get_option("--kidnap-at");
   c->callback([=]() {
-    const ScenarioConfig sc = finish_scenario(*opts);
+    ScenarioConfig sc = finish_scenario(*opts);
     FilterOptions fo = *filter;
-    fo.start = *start == "tracking" ? StartKind::tracking : StartKind::global;
+    const bool ekf = *filter_kind == "ekf";
+    fo.filter = ekf ? est::loop::Filter::ekf : est::loop::Filter::mcl;
+    if (ekf && *start == "global")
+      throw CLI::ValidationError("--start", "the EKF tracks from the true start pose: --start global needs --filter mcl");
+    fo.start = *start == "tracking" || (ekf && start->empty()) ? StartKind::tracking : StartKind::global;
+    if (ekf && kidnap_opt->count() == 0) sc.kidnap_at_s = -1.0;  // an EKF cannot recover: no kidnapping unless asked
     fo.kld = !*no_kld;
     const SimWorld world = load_world(sc);
     const SimResult r = run_simulation(sc, fo, world);

@@ -146,7 +146,8 @@ void plot_trajectory(const SimResult& r, const ScenarioConfig& sc, const SimWorl
   map_frame(gp, w);
   const hal::TimeNs t0 = r.stream.truth.front().t_ns;
   std::ostringstream title;
-  title << "Monte Carlo localization in the " << (w.name == "office" ? "synthetic office" : fs::path(w.name).filename().string()) << " ("
+  const bool ekf = r.filter == est::loop::Filter::ekf;
+  title << (ekf ? "EKF localization on landmarks in the " : "Monte Carlo localization in the ") << (w.name == "office" ? "synthetic office" : fs::path(w.name).filename().string()) << " ("
         << robot_title(sc) << ")\\nposition RMSE once localized " << fmt("%.3f", r.metrics.rmse_position_m)
         << " m, heading RMSE " << fmt("%.2f", r.metrics.rmse_heading_deg) << " deg";
   gp << "set title \"" << title.str() << "\" noenhanced\n";
@@ -180,13 +181,44 @@ void plot_trajectory(const SimResult& r, const ScenarioConfig& sc, const SimWorl
     clouds.push_back({p, "particles at " + fmt("%.2f", seconds(s.t_ns, t0)) + " s (" + s.label + ", " +
                              std::to_string(s.total) + ")"});
   }
+  // EKF: the landmarks, and the estimate's 2-sigma position ellipse once a second.
+  if (ekf) {
+    std::ofstream f = open(dir / "landmarks.dat");
+    for (std::int32_t j = 0; j < w.landmarks.size(); ++j)
+      f << w.landmarks[j].x << " " << w.landmarks[j].y << " " << w.landmarks[j].signature << "\n";
+    std::ofstream e = open(dir / "ellipses.dat");
+    hal::TimeNs next = t0;
+    for (const OutputRow& row : r.rows) {
+      if (row.t_ns < next) continue;
+      next = row.t_ns + hal::kNsPerS;
+      // Axes from the eigenvalues of the 2 x 2 position covariance; 2 sigma: 86 % of a 2-D Gaussian.
+      const double a = static_cast<double>(row.sigma_x_m) * static_cast<double>(row.sigma_x_m);
+      const double c = static_cast<double>(row.sigma_y_m) * static_cast<double>(row.sigma_y_m);
+      const double b = static_cast<double>(row.cov_xy_m2);
+      const double mid = 0.5 * (a + c), rad = std::sqrt(0.25 * (a - c) * (a - c) + b * b);
+      const double l1 = mid + rad, l2 = std::max(0.0, mid - rad);
+      const double angle = 0.5 * std::atan2(2.0 * b, a - c);
+      for (int k = 0; k <= 36; ++k) {
+        const double u = 2.0 * kPi * k / 36.0;
+        const double px = 2.0 * std::sqrt(l1) * std::cos(u), py = 2.0 * std::sqrt(l2) * std::sin(u);
+        e << static_cast<double>(row.estimate.x) + px * std::cos(angle) - py * std::sin(angle) << " "
+          << static_cast<double>(row.estimate.y) + px * std::sin(angle) + py * std::cos(angle) << "\n";
+      }
+      e << "\n";
+    }
+  }
   gp << "plot 'map.dat' using 1:2:3 with image notitle, \\\n";
   gp << "  'route.dat' using 1:2 with linespoints lw 1.5 dt 3 pt 6 ps 1.2 lc rgb '#7f7f7f' title 'route', \\\n";
+  if (ekf) {
+    gp << "  'landmarks.dat' using 1:2 with points pt 5 ps 1.6 lc rgb '#8c564b' title 'landmarks (posts)', \\\n";
+    gp << "  'ellipses.dat' using 1:2 with lines lw 1 lc rgb '#9467bd' title 'estimate 2-sigma ellipse (1 Hz)', \\\n";
+  }
   for (std::size_t i = 0; i < clouds.size(); ++i)
     gp << "  " << q(clouds[i].first) << " using 1:2 with points pt 7 ps 0.45 lc rgb '" << colors[i % 2]
        << "' title '" << clouds[i].second << "', \\\n";
   gp << "  'truth.dat' using 2:3 with lines lw 3 lc rgb '#1f77b4' title 'truth', \\\n";
-  gp << "  'estimate.dat' using 2:3 with lines lw 1.5 lc rgb '#d62728' title 'estimate (strongest cluster)', \\\n";
+  gp << "  'estimate.dat' using 2:3 with lines lw 1.5 lc rgb '#d62728' title '"
+     << (ekf ? "estimate (EKF mean)" : "estimate (strongest cluster)") << "', \\\n";
   {
     std::ofstream f = open(dir / "start.dat");
     f << s0.x << " " << s0.y << "\n";
@@ -205,11 +237,15 @@ void plot_errors(const SimResult& r, const ScenarioConfig& sc, const FilterOptio
     std::ofstream f = open(dir / "errors.dat");
     for (const OutputRow& w : r.rows)
       f << fmt("%.3f", seconds(w.t_ns, t0)) << " " << w.position_error_m << " " << static_cast<double>(w.heading_error_rad) * kDeg << " "
-        << w.particles << " " << std::hypot(w.sigma_x_m, w.sigma_y_m) << "\n";
+        << w.particles << " " << std::hypot(w.sigma_x_m, w.sigma_y_m) << " "
+        << static_cast<double>(w.sigma_theta_rad) * kDeg << "\n";
     std::ofstream g = open(dir / "fault_times.dat");
     for (const InjectedFault& x : r.stream.faults) {
       if (x.key.rfind("event.", 0) == 0) continue;
-      const int row = x.key.rfind("wheel", 0) == 0 ? 0 : x.key.rfind("steering", 0) == 0 ? 1 : 2;
+      const int row = x.key.rfind("wheel", 0) == 0      ? 0
+                      : x.key.rfind("steering", 0) == 0 ? 1
+                      : x.key.rfind("scan", 0) == 0     ? 2
+                                                        : 3;
       g << fmt("%.3f", seconds(x.t_ns, t0)) << " " << row << " " << (x.expected == "-" ? 0 : 1) << "\n";
     }
   }
@@ -253,10 +289,15 @@ void plot_errors(const SimResult& r, const ScenarioConfig& sc, const FilterOptio
   gp << "plot 'errors.dat' using 1:3 with lines lw 1.5 lc rgb '#ff7f0e' title 'heading error', \\\n"
      << "  " << fo.converge_heading_deg << " with lines lw 1 dt 3 lc rgb 'black' title 'localized bound "
      << fo.converge_heading_deg << " deg'\n";
-  gp << "set ylabel 'particles'\nset yrange [100:30000]\n";
-  gp << "plot 'errors.dat' using 1:4 with steps lw 1.5 lc rgb '#8c564b' title 'particles (KLD)'\n";
-  gp << "unset logscale y\nset format x '%g'\nset xlabel 'time (s)'\nset yrange [-0.7:2.7]\n";
-  gp << "set ytics ('encoders' 0, 'steering' 1, 'scans' 2)\nset ylabel 'injected faults'\n";
+  if (r.filter == est::loop::Filter::ekf) {
+    gp << "set ylabel 'heading sigma (deg)'\nset yrange [0.01:180]\n";
+    gp << "plot 'errors.dat' using 1:6 with lines lw 1.5 lc rgb '#8c564b' title 'EKF heading sigma'\n";
+  } else {
+    gp << "set ylabel 'particles'\nset yrange [100:30000]\n";
+    gp << "plot 'errors.dat' using 1:4 with steps lw 1.5 lc rgb '#8c564b' title 'particles (KLD)'\n";
+  }
+  gp << "unset logscale y\nset format x '%g'\nset xlabel 'time (s)'\nset yrange [-0.7:3.7]\n";
+  gp << "set ytics ('encoders' 0, 'steering' 1, 'scans' 2, 'landmarks' 3)\nset ylabel 'injected faults'\n";
   gp << "plot 'fault_times.dat' using 1:($3 == 1 ? $2 : NaN) with points pt 9 ps 1.3 lc rgb '#d62728' title "
         "'must be rejected', \\\n"
      << "  'fault_times.dat' using 1:($3 == 0 ? $2 : NaN) with points pt 8 ps 1.3 lc rgb '#555555' title "
@@ -315,17 +356,39 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
                    {"beams", sc.beams},
                    {"fov_deg", sc.fov_deg},
                    {"range_max_m", sc.range_max_m},
+                   {"landmarks", r.stream.landmark_count},
+                   {"landmark_hz", r.stream.landmark_count > 0 ? sc.landmark_hz : 0},
+                   {"landmark_ids", sc.landmark_ids_known ? "known" : "unknown"},
+                   {"landmark_noise", {{"sigma_range_m", sc.landmark_sensor.noise.sigma_range},
+                                       {"sigma_bearing_rad", sc.landmark_sensor.noise.sigma_bearing},
+                                       {"sigma_signature", sc.landmark_sensor.noise.sigma_signature},
+                                       {"max_range_m", sc.landmark_sensor.max_range}}},
                    {"kidnap_at_s", r.stream.kidnap_ns >= 0 ? seconds(r.stream.kidnap_ns, t0) : -1.0},
                    {"burst_at_s", sc.burst_at_s},
                    {"burst_ms", sc.burst_ms}};
-  j["filter"] = {{"start", fo.start == StartKind::global ? "global" : "tracking"},
-                 {"particles", fo.particles},
-                 {"kld", fo.kld},
-                 {"kld_min", fo.kld_min},
-                 {"beam_stride", fo.beam_stride},
-                 {"localized_bound", {{"position_m", fo.converge_pos_m},
-                                      {"heading_deg", fo.converge_heading_deg},
-                                      {"hold_s", fo.hold_s}}}};
+  const ordered bound = {{"position_m", fo.converge_pos_m},
+                         {"heading_deg", fo.converge_heading_deg},
+                         {"hold_s", fo.hold_s}};
+  const bool ekf = r.filter == est::loop::Filter::ekf;
+  if (ekf)
+    j["filter"] = {{"kind", "ekf"},
+                   {"description", "EKF localization on landmark features (Thrun table 7.2 with known "
+                                   "correspondences, table 7.3 by maximum likelihood when the id is unknown)"},
+                   {"start", "tracking"},
+                   {"start_sigma_xy_m", fo.ekf_start_sigma_xy_m},
+                   {"start_sigma_theta_rad", fo.ekf_start_sigma_theta_rad},
+                   {"rot_sigma_per_prediction_rad", fo.ekf_rot_sigma_rad},
+                   {"lost_sigma_m", fo.ekf_lost_sigma_m},
+                   {"particles", 0},
+                   {"localized_bound", bound}};
+  else
+    j["filter"] = {{"kind", "mcl"},
+                   {"start", fo.start == StartKind::global ? "global" : "tracking"},
+                   {"particles", fo.particles},
+                   {"kld", fo.kld},
+                   {"kld_min", fo.kld_min},
+                   {"beam_stride", fo.beam_stride},
+                   {"localized_bound", bound}};
   const SimMetrics& m = r.metrics;
   ordered phases = ordered::array();
   for (const PhaseMetrics& p : m.phases)
@@ -348,6 +411,9 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
       j["time_to_converge_s"] = p.localized ? json(p.time_to_localize_s) : json(nullptr);
     if (p.name == "kidnap recovery") j["time_to_recover_s"] = p.localized ? json(p.time_to_localize_s) : json(nullptr);
   }
+  if (ekf && r.stream.kidnap_ns >= 0)
+    j["kidnap_note"] = "the EKF tracks one Gaussian from the start: it is not built to recover from a kidnapping "
+                       "(use --filter mcl, augmented MCL, for that)";
   // Faults: what was injected, what each counter had to show, what it showed.
   const std::map<std::string, int> expected = r.stream.expected_counts();
   const std::map<std::string, int> observed = r.observed_counts();
@@ -370,7 +436,8 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
                  {"list", "faults.csv"}};
   ordered hal_counts;
   const std::pair<const char*, const hal::FaultCounters*> kinds[] = {
-      {"wheel_ticks", &r.wheel_faults}, {"steering", &r.steering_faults}, {"scan", &r.scan_faults}};
+      {"wheel_ticks", &r.wheel_faults}, {"steering", &r.steering_faults}, {"scan", &r.scan_faults},
+      {"landmarks", &r.landmark_faults}};
   for (const auto& [name, c] : kinds) {
     ordered k = ordered::object();
     for (std::size_t i = 1; i < hal::kFaultCount; ++i) k[hal::to_string(static_cast<hal::Fault>(i))] = c->count[i];
@@ -380,6 +447,7 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
                               {"max_range", r.beams.max_range},
                               {"not_a_number", r.beams.not_a_number},
                               {"below_min", r.beams.below_min}};
+  hal_counts["landmark_features_accepted"] = r.landmark_features_accepted;
   j["hal"] = hal_counts;
   j["loop"] = {{"inputs", r.loop.inputs},
                {"too_old", r.loop.too_old},
@@ -391,15 +459,30 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
                {"encoder_timeouts", r.loop.encoder_timeouts},
                {"steering_timeouts", r.loop.steering_timeouts},
                {"scan_timeouts", r.loop.scan_timeouts},
+               {"landmark_timeouts", r.loop.landmark_timeouts},
+               {"unused", r.loop.unused},
                {"outputs", r.rows.size()},
                {"nonfinite_estimates", r.nonfinite_estimates}};
-  j["mcl"] = {{"predictions", r.mcl.predictions},
-              {"corrections", r.mcl.corrections},
-              {"resamplings", r.mcl.resamplings},
-              {"injected_particles", r.mcl.injected_particles},
-              {"failed_injections", r.mcl.failed_injections},
-              {"degenerate_corrections", r.mcl.degenerate_corrections},
-              {"map_penalized", r.mcl.map_penalized}};
+  if (ekf) {
+    j["ekf"] = {{"features_fused", r.ekf.accepted},
+                {"features_refused", {{"gated_out", r.ekf.gated_out},
+                                      {"unknown_landmark", r.ekf.unknown_landmark},
+                                      {"nonfinite", r.ekf.nonfinite},
+                                      {"not_positive_definite", r.ekf.not_pd},
+                                      {"bad_input", r.ekf.bad_input}}},
+                {"predictions", r.ekf_predictions.accepted},
+                {"predictions_refused", r.ekf_predictions.rejected_nonfinite + r.ekf_predictions.rejected_range},
+                {"note", "refused features are the filter's decisions on inputs the HAL passed (a gate at chi2 "
+                         "99.9 %); loop.rejected in rejects_by_counter leaves them out"}};
+  } else {
+    j["mcl"] = {{"predictions", r.mcl.predictions},
+                {"corrections", r.mcl.corrections},
+                {"resamplings", r.mcl.resamplings},
+                {"injected_particles", r.mcl.injected_particles},
+                {"failed_injections", r.mcl.failed_injections},
+                {"degenerate_corrections", r.mcl.degenerate_corrections},
+                {"map_penalized", r.mcl.map_penalized}};
+  }
   j["timing"] = {{"note", "wall-clock figures of this host; not part of the deterministic outputs"},
                  {"wall_s", r.wall_s},
                  {"realtime_factor", r.wall_s > 0.0 ? sc.duration_s / r.wall_s : 0.0},
@@ -427,8 +510,12 @@ std::vector<std::string> write_simulation_outputs(const SimResult& r, const Scen
     write_track_data(r, dir / "truth.dat", dir / "estimate.dat");
     plot_trajectory(r, sc, w, dir);
     plot_errors(r, sc, fo, dir);
-    plot_particles(r, sc, w, dir);
-    for (const char* p : {"trajectory.png", "errors.png", "particles.png"}) out.push_back((dir / p).string());
+    out.push_back((dir / "trajectory.png").string());
+    out.push_back((dir / "errors.png").string());
+    if (!r.snapshots.empty()) {  // MCL's clouds; the EKF's ellipses are on trajectory.png
+      plot_particles(r, sc, w, dir);
+      out.push_back((dir / "particles.png").string());
+    }
   }
   return out;
 }

@@ -1,7 +1,8 @@
 #pragma once
 // `record`: a scenario's sensor stream and ground truth as an LCM log file (lcm::LogFile), in arrival order, on the
 // LCM backend's default channels (hal/lcm/lcm_backend.hpp): EST_WHEEL_TICKS (est_lcm::encoder_ticks_t, 32-bit
-// counters), EST_STEERING, EST_RANGE_SCAN and EST_GROUND_TRUTH (every 10 ms step). Event times are the arrival times
+// counters), EST_STEERING, EST_RANGE_SCAN, EST_LANDMARKS (est_lcm::landmark_sighting_t) and EST_GROUND_TRUTH (every
+// 10 ms step). Event times are the arrival times
 // in microseconds of the robot's clock, so a replay that paces by event time sees the same late, stale and
 // out-of-order deliveries the in-process simulation sees. Host only (may throw).
 #include <cstdint>

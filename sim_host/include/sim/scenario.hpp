@@ -10,7 +10,9 @@
 
 #include "est/geometry/pose2.hpp"
 #include "est/map/distance_transform.hpp"
+#include "est/map/landmark_map.hpp"
 #include "est/map/occupancy_grid.hpp"
+#include "world/landmark_sensor.hpp"
 #include "world/range_sensor.hpp"
 #include "world/route.hpp"
 
@@ -20,7 +22,7 @@ enum class RobotKind { bicycle, diff_drive };
 enum class StartKind { global, tracking };
 
 // Injected faults by stream and class, e.g. {"scan.stale", 2}. Keys: <stream>.<class> with stream in wheel_ticks,
-// steering, scan; fault_catalogue() lists every key with what it does and how the HAL or the loop must count it.
+// steering, scan, landmarks; fault_catalogue() lists every key with what it does and how the HAL or the loop must count it.
 using FaultCounts = std::map<std::string, int>;
 
 struct FaultClassInfo {
@@ -29,8 +31,10 @@ struct FaultClassInfo {
   std::string expected;  // the counter that must move by one per injection ("-" when none must)
 };
 const std::vector<FaultClassInfo>& fault_catalogue();
-// The plan of the default 60 s scenario: 58 faults for the bicycle (41 without a steering sensor), ~1 per second.
-FaultCounts default_fault_counts(RobotKind robot);
+// The plan of the default 60 s scenario: 58 faults for the bicycle (41 without a steering sensor), ~1 per second,
+// and 13 more in the landmark sightings when the world has landmarks. (No landmarks.time_backwards: at the
+// sensor's rates a stamp before the previous sighting's is already older than the HAL's staleness limit.)
+FaultCounts default_fault_counts(RobotKind robot, bool landmarks = true);
 
 struct ScenarioConfig {
   // World.
@@ -57,6 +61,11 @@ struct ScenarioConfig {
   double slip_factor = 0.3;
   double steering_sigma_deg = 0.5;
   double steering_bias_deg = 0.5;
+  // Landmark sensor (the world's landmark map; none in a ROS map): sightings at landmark_hz, each feature with its
+  // map index (landmark_ids_known) or -1 (the filter associates by maximum likelihood, with the signature).
+  int landmark_hz = 5;
+  est::sim::LandmarkSensorSpec landmark_sensor{};
+  bool landmark_ids_known = true;
   // Faults.
   FaultCounts faults;                   // empty: none
   double kidnap_at_s = 30.0;            // < 0: no kidnapping
@@ -64,12 +73,13 @@ struct ScenarioConfig {
   double burst_ms = 400.0;
 };
 
-// The world of a run: grid, distance transform and route, owned here.
+// The world of a run: grid, distance transform, landmarks and route, owned here.
 struct SimWorld {
   std::string name;
   std::shared_ptr<void> storage;  // the grid and transform of a loaded map (the office's are static)
   est::OccupancyGrid grid;
   est::DistanceTransform edt;
+  est::LandmarkMap landmarks;     // the office's 16 posts; empty in a ROS map
   std::unique_ptr<est::sim::Route> route;
 };
 // The office (shared, built once) or the ROS map of the config; throws on a bad map or route.

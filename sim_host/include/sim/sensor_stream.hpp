@@ -1,12 +1,16 @@
 #pragma once
 // The sensor stream of a scenario, as a robot's buses would deliver it: raw HAL samples (encoder counters that
-// wrap, steering angles, range scans), each stamped by the robot's clock and delivered at an arrival time, with the
+// wrap, steering angles, range scans, landmark sightings), each stamped by the robot's clock and delivered at an arrival time, with the
 // scenario's faults injected, plus the ground truth at every 10 ms simulation step. Generated up front and
 // deterministically from the seed; consumed by `simulate` (through the HAL into the filter loop) and by `record`
 // (into an LCM log).
 //
 // Timing: the simulation steps at 10 ms from t0 = 1 s. A sample's stamp is the step's time; it arrives after its
-// nominal latency (encoders and steering 1 ms, scans 12 ms: within the loop's 20 ms reorder window).
+// nominal latency (encoders and steering 1 ms, scans 12 ms, landmark sightings 15 ms: within the loop's 20 ms
+// reorder window).
+//
+// Random draws: each source has its own generator stream of the seed (truth 1, scans 2, odometry 3, faults 4,
+// landmark sightings 5, landmark faults 6), so adding or changing one stream never moves another's draws.
 #include <cstdint>
 #include <map>
 #include <string>
@@ -15,6 +19,7 @@
 #include "est/geometry/pose2.hpp"
 #include "est/motion/bicycle_model.hpp"
 #include "est/motion/diff_drive_model.hpp"
+#include "hal/landmarks.hpp"
 #include "hal/range_scan.hpp"
 #include "hal/steering.hpp"
 #include "hal/time.hpp"
@@ -28,7 +33,7 @@ inline constexpr hal::TimeNs kSimStepNs = 10 * hal::kNsPerMs;
 inline constexpr hal::TimeNs kSimStartNs = hal::kNsPerS;
 inline constexpr unsigned kEncoderCounterBits = 32;  // as est_lcm::encoder_ticks_t and the LCM backend's default
 
-enum class StreamKind : std::uint8_t { wheel_ticks, steering, scan };
+enum class StreamKind : std::uint8_t { wheel_ticks, steering, scan, landmarks };
 const char* to_string(StreamKind k);
 
 struct StreamEvent {
@@ -37,6 +42,7 @@ struct StreamEvent {
   hal::WheelTicks ticks;
   hal::SteeringSample steering;
   std::size_t scan = 0;  // index into SensorStream::scans
+  std::size_t sighting = 0;  // index into SensorStream::sightings
   int fault = -1;        // index into SensorStream::faults when this delivery carries an injected fault
 };
 
@@ -45,6 +51,13 @@ struct ScanRecord {
   hal::ScanGeometry geometry;
   std::vector<float> ranges;
   hal::RangeScanView view() const { return {stamp_ns, geometry, ranges.data(), ranges.size()}; }
+};
+
+// A landmark sighting as the sensor sends it (never empty: a sensor that sees nothing sends nothing).
+struct SightingRecord {
+  hal::TimeNs stamp_ns = 0;
+  std::vector<hal::LandmarkFeature> features;
+  hal::LandmarkSightingView view() const { return {stamp_ns, features.data(), features.size()}; }
 };
 
 struct TruthSample {
@@ -67,6 +80,7 @@ struct InjectedFault {
 struct SensorStream {
   std::vector<StreamEvent> events;  // in arrival order (ties: generation order)
   std::vector<ScanRecord> scans;
+  std::vector<SightingRecord> sightings;
   std::vector<TruthSample> truth;   // every 10 ms step, t = kSimStartNs + k * kSimStepNs
   std::vector<InjectedFault> faults;
   hal::InputLimits limits;          // what the HAL gate of this robot is configured with
@@ -75,6 +89,7 @@ struct SensorStream {
   est::Pose2 mount;                 // rangefinder in the robot frame
   double metres_per_tick = 0.0;     // encoder resolution (the bicycle's traction wheel / each diff-drive wheel)
   std::size_t route_waypoints = 0;
+  std::size_t landmark_count = 0;   // landmarks in the world's map (0: no landmark sensor)
 
   const TruthSample& truth_at(hal::TimeNs t) const;  // the step at or before t (clamped to the run)
   // Expected counts by counter name (sums of InjectedFault::amount; "-" left out).
@@ -89,6 +104,11 @@ struct RobotModels {
 RobotModels robot_models();
 
 // Throws std::invalid_argument on a bad configuration (rates, unknown fault keys, faults that do not fit the run).
+// The expectations assume a loop that consumes scans and landmark sightings; see expect_loop_inputs.
 SensorStream generate_stream(const ScenarioConfig& config, const SimWorld& world);
+
+// A filter loop drops the inputs its estimator does not use when they are pushed (counted as unused, before any
+// ordering check): a late scan under the EKF, or a late sighting under MCL, then moves no counter.
+void expect_loop_inputs(SensorStream& stream, bool uses_scans, bool uses_landmarks);
 
 }  // namespace sim

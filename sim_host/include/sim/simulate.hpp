@@ -1,6 +1,7 @@
 #pragma once
 // The host simulation: a scenario's sensor stream goes through the HAL gate (hal::ValidatedInputs, what a rig runs)
-// and the HAL-to-loop adapter (hal::LoopPort) into the firmware's FilterLoop with the MCL estimator, in process; every
+// and the HAL-to-loop adapter (hal::LoopPort) into the firmware's FilterLoop (est::loop::ConfiguredLoop) with the MCL estimator on the scans or the EKF on the
+// landmark sightings, in process; every
 // estimate is compared with the ground truth. Metrics: accuracy once localized, time to converge from a global start
 // and to recover from the kidnapping, and every rejected input by reason next to the faults that were injected.
 // Host only (may throw).
@@ -10,7 +11,10 @@
 #include <vector>
 
 #include "est/filter/augmented_mcl.hpp"
+#include "est/filter/correction_status.hpp"
+#include "est/filter/ekf_localization.hpp"
 #include "est/geometry/pose2.hpp"
+#include "est/loop/configured_loop.hpp"
 #include "est/loop/status.hpp"
 #include "hal/fault.hpp"
 #include "hal/loop_port.hpp"
@@ -21,6 +25,9 @@
 namespace sim {
 
 struct FilterOptions {
+  // mcl: augmented MCL on the scans (MclEstimator). ekf: EKF localization on the landmark sightings (EkfEstimator,
+  // Thrun tables 7.2/7.3), tracking from a Gaussian at the true start; it needs a world with landmarks.
+  est::loop::Filter filter = est::loop::Filter::mcl;
   StartKind start = StartKind::global;
   std::uint32_t particles = 20000;  // initial count (and the capacity's share when KLD adapts it)
   bool kld = true;
@@ -30,6 +37,13 @@ struct FilterOptions {
   float alpha_slow = 0.02f;         // augmented MCL's averages of the scan likelihood (Thrun table 8.3), per scan
   float alpha_fast = 0.3f;
   float max_injection = 0.5f;       // at most this share of a resampled set is injected
+  // EKF: the start's standard deviations (around the true start pose), the heading noise added to every prediction
+  // (what the odometry models leave out: slip, the encoders' scale error), and the position sigma beyond which the
+  // belief is reported degenerate.
+  float ekf_start_sigma_xy_m = 0.2f;
+  float ekf_start_sigma_theta_rad = 0.1f;
+  float ekf_rot_sigma_rad = 0.002f;
+  float ekf_lost_sigma_m = 5.0f;
   // "Localized": position within converge_pos_m and heading within converge_heading_deg for hold_s.
   double converge_pos_m = 0.5;
   double converge_heading_deg = 10.0;
@@ -43,7 +57,8 @@ struct OutputRow {
   float position_error_m = 0.0f;
   float heading_error_rad = 0.0f;
   float sigma_x_m = 0.0f, sigma_y_m = 0.0f, sigma_theta_rad = 0.0f;
-  std::uint32_t particles = 0;
+  float cov_xy_m2 = 0.0f;      // the position covariance's off-diagonal (the 2-sigma ellipse of the plots)
+  std::uint32_t particles = 0; // 0 for the EKF
   std::uint32_t status = 0;  // hal::status bits, without kDeadlineOverrun (wall-clock dependent)
   std::uint32_t rejected_inputs = 0;
 };
@@ -76,24 +91,34 @@ struct SimMetrics {
 };
 
 struct SimResult {
+  est::loop::Filter filter = est::loop::Filter::mcl;
   SensorStream stream;
   std::vector<OutputRow> rows;
   std::vector<ParticleSnapshot> snapshots;
-  hal::FaultCounters wheel_faults, steering_faults, scan_faults;
+  hal::FaultCounters wheel_faults, steering_faults, scan_faults, landmark_faults;
+  std::uint32_t landmark_features_accepted = 0;  // by the HAL
   hal::BeamCounters beams;
   est::loop::LoopCounters loop;
   hal::LoopPortRejectCounters port_rejects;
-  est::MclCounters mcl;
+  est::MclCounters mcl;                   // MCL runs
+  est::CorrectionCounters ekf;            // EKF runs: features fused or refused, by reason
+  est::PredictionCounters ekf_predictions;
   std::uint32_t nonfinite_estimates = 0;
   SimMetrics metrics;
   double wall_s = 0.0;
 
-  // Reject counters by the names InjectedFault::expected uses (hal.<stream>.<reason>, hal.scan.beams_nan,
-  // loop.too_old, loop.queue_full, loop.rejected, port.<reason>); zeros left out.
+  // Reject counters by the names InjectedFault::expected uses (hal.<stream>.<reason> with stream in wheel_ticks,
+  // steering, scan, landmarks; hal.scan.beams_nan,
+  // loop.too_old, loop.queue_full, loop.rejected, port.<reason>); zeros left out. An EKF's refused features are not
+  // in loop.rejected here (see SimResult::ekf).
   std::map<std::string, int> observed_counts() const;
 };
 
+// Throws std::invalid_argument on a bad configuration, e.g. the EKF with a global start or in a world without
+// landmarks.
 SimResult run_simulation(const ScenarioConfig& scenario, const FilterOptions& filter, const SimWorld& world);
+
+const char* to_string(est::loop::Filter f);
 
 // The files of a run in `dir` (created): trajectory.csv, faults.csv, metrics.json and, with plots, trajectory.png,
 // errors.png, particles.png (gnuplot scripts and their data beside them). Returns the paths written.
