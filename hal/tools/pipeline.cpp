@@ -65,56 +65,13 @@ est::BicycleMotionModel::Params motion_params<est::BicycleMotionModel>(const Nod
   return c.bicycle;
 }
 
-template <typename Model>
-void set_odometry(const NodeConfig&, typename est::loop::OdometryControl<Model>::Config&) {}
-template <>
-void set_odometry<est::BicycleMotionModel>(const NodeConfig& c,
-                                           est::loop::OdometryControl<est::BicycleMotionModel>::Config& o) {
-  o.metres_per_tick = c.metres_per_tick;
-}
-
-// The firmware's static configuration of each pipeline the node can run: the node's capacities and the model and
-// filter chosen on its command line (the rates and limits are run-time options on the host).
-template <typename RobotModel, est::loop::Filter F>
-struct NodeLoopConfig {
-  using Model = RobotModel;
-  static constexpr est::loop::Filter kFilter = F;
-  static constexpr std::uint32_t kMaxParticles = hal::node::kMaxParticles;
-  static constexpr std::int32_t kMaxBeams = hal::node::kMaxBeams;
-  static constexpr std::uint32_t kQueueCapacity = hal::node::kQueueCapacity;
-  static constexpr std::uint32_t kScanSlots = hal::node::kScanSlots;
-  static constexpr est::loop::LoopTiming kTiming{};
-};
-
-template <typename Model>
-est::loop::MclEstimatorConfig<Model> estimator_config(const NodeConfig& c, est::loop::MclEstimatorConfig<Model>) {
-  est::loop::MclEstimatorConfig<Model> e;
-  e.mcl.recovery = c.recovery;
-  e.mcl.alpha_slow = c.alpha_slow;
-  e.mcl.alpha_fast = c.alpha_fast;
-  e.motion = motion_params<Model>(c);
-  set_odometry<Model>(c, e.odometry);
-  e.sensor_mount = c.sensor_mount;
-  e.beam_stride = c.beam_stride;
-  e.cluster_cell = c.cluster_cell_m;
-  return e;
-}
-
-template <typename Model>
-est::loop::EkfEstimatorConfig<Model> estimator_config(const NodeConfig& c, est::loop::EkfEstimatorConfig<Model>) {
-  est::loop::EkfEstimatorConfig<Model> e;
-  e.motion = motion_params<Model>(c);
-  set_odometry<Model>(c, e.odometry);
-  e.ekf.additive_process_noise(2, 2) = c.ekf_rot_sigma * c.ekf_rot_sigma;
-  e.noise = c.landmark_noise;
-  e.lost_sigma_m = c.lost_sigma_m;
-  return e;
-}
-
 template <typename Model, est::loop::Filter F>
 class ModelPipeline final : public Pipeline {
  public:
-  using Configured = est::loop::ConfiguredLoop<NodeLoopConfig<Model, F>>;
+  // The firmware's static configuration of each pipeline the node can run: the node's capacities, the model and the
+  // filter chosen on its command line (the rates and limits are run-time options on the host).
+  using Configured = est::loop::ConfiguredLoop<
+      est::loop::LoopConfig<Model, F, kMaxParticles, kMaxBeams, kQueueCapacity, kScanSlots>>;
   using Estimator = typename Configured::Estimator;
   using Port = LoopPort<Estimator, kQueueCapacity, kMaxBeams, kScanSlots>;
   static_assert(std::is_same_v<typename Port::Loop, typename Configured::Loop>, "one loop type");
@@ -140,12 +97,6 @@ class ModelPipeline final : public Pipeline {
   const LoopPortRejectCounters& port_rejects() const override { return port_.rejects(); }
   std::uint32_t published() const override { return port_.published(); }
   std::uint32_t nonfinite_estimates() const override { return port_.nonfinite_estimates(); }
-  std::uint32_t particle_count() const override {
-    if constexpr (F == est::loop::Filter::mcl)
-      return estimator_.filter().particles().count;
-    else
-      return 0u;
-  }
   std::string map_description() const override { return map_->description; }
   std::string filter_description() const override {
     if constexpr (F == est::loop::Filter::mcl)
@@ -157,10 +108,23 @@ class ModelPipeline final : public Pipeline {
 
  private:
   static Estimator construct(const NodeConfig& c, const MapModels& m) {
-    if constexpr (F == est::loop::Filter::mcl)
-      return Estimator(estimator_config(c, typename Configured::EstimatorConfig{}), c.seed, m.field, m.free_space);
-    else
-      return Estimator(estimator_config(c, typename Configured::EstimatorConfig{}), m.landmarks.view());
+    typename Configured::EstimatorConfig e;
+    e.motion = motion_params<Model>(c);
+    e.odometry = est::loop::OdometryControl<Model>::config(c.metres_per_tick);
+    if constexpr (F == est::loop::Filter::mcl) {
+      e.mcl.recovery = c.recovery;
+      e.mcl.alpha_slow = c.alpha_slow;
+      e.mcl.alpha_fast = c.alpha_fast;
+      e.sensor_mount = c.sensor_mount;
+      e.beam_stride = c.beam_stride;
+      e.cluster_cell = c.cluster_cell_m;
+      return Estimator(e, c.seed, m.field, m.free_space);
+    } else {
+      e.ekf.additive_process_noise(2, 2) = c.ekf_rot_sigma * c.ekf_rot_sigma;
+      e.noise = c.landmark_noise;
+      e.lost_sigma_m = c.lost_sigma_m;
+      return Estimator(e, m.landmarks.view());
+    }
   }
 
   std::unique_ptr<MapModels> map_;

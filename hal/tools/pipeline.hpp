@@ -29,7 +29,6 @@ class Pipeline {
   virtual const LoopPortRejectCounters& port_rejects() const = 0;
   virtual std::uint32_t published() const = 0;
   virtual std::uint32_t nonfinite_estimates() const = 0;
-  virtual std::uint32_t particle_count() const = 0;
   virtual std::string map_description() const = 0;
   virtual std::string filter_description() const = 0;
 };

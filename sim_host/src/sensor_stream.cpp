@@ -328,9 +328,7 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
       shift = kFutureOffset;
     } else if (cls == "nan") {
       f.expected = hal_prefix + "not_finite";
-    } else if (cls == "range_spike") {
-      f.expected = hal_prefix + "out_of_range";
-    } else if (cls == "spike") {
+    } else if (cls == "spike" || cls == "range_spike") {
       f.expected = hal_prefix + "out_of_range";
     } else if (cls == "counter_jump") {
       f.expected = hal_prefix + "out_of_range";

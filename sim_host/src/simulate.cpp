@@ -55,26 +55,6 @@ est::BicycleParams filter_params<est::BicycleMotionModel>(const RobotModels& m) 
 template <>
 est::DiffDriveParams filter_params<est::DiffDriveMotionModel>(const RobotModels& m) { return m.diff_filter; }
 
-// The firmware's static configuration of a simulation run (est/loop/configured_loop.hpp): the robot model and the
-// filter, estimator_node's capacities with room for 1440 beams, the loop's default rates and limits.
-template <typename RobotModel, est::loop::Filter F>
-struct SimLoopConfig {
-  using Model = RobotModel;
-  static constexpr est::loop::Filter kFilter = F;
-  static constexpr std::uint32_t kMaxParticles = sim::kMaxParticles;
-  static constexpr std::int32_t kMaxBeams = sim::kMaxBeams;
-  static constexpr std::uint32_t kQueueCapacity = sim::kQueueCapacity;
-  static constexpr std::uint32_t kScanSlots = sim::kScanSlots;
-  static constexpr est::loop::LoopTiming kTiming{};
-};
-
-template <typename Model>
-void set_odometry(const SensorStream& s, typename est::loop::OdometryControl<Model>::Config& o) {
-  if constexpr (std::is_same_v<Model, est::BicycleMotionModel>) o.metres_per_tick = static_cast<float>(s.metres_per_tick);
-  (void)s;
-  (void)o;
-}
-
 // Every n-th particle, at most kSnapshotPoints.
 template <typename Estimator>
 ParticleSnapshot snapshot(const Estimator& estimator, hal::TimeNs t, const std::string& label, const est::Pose2& truth,
@@ -99,7 +79,10 @@ struct MclMapModels {
 
 template <typename Model, est::loop::Filter F>
 void run_model(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorld& world, SimResult& r) {
-  using Configured = est::loop::ConfiguredLoop<SimLoopConfig<Model, F>>;
+  // The firmware's static configuration of a run: the model and the filter, estimator_node's capacities with room
+  // for 1440 beams, the loop's default rates and limits.
+  using Configured =
+      est::loop::ConfiguredLoop<est::loop::LoopConfig<Model, F, kMaxParticles, kMaxBeams, kQueueCapacity, kScanSlots>>;
   using Estimator = typename Configured::Estimator;
   using Loop = typename Configured::Loop;
   using Port = hal::LoopPort<Estimator, kQueueCapacity, kMaxBeams, kScanSlots>;
@@ -109,7 +92,7 @@ void run_model(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorld
 
   typename Configured::EstimatorConfig ec;
   ec.motion = filter_params<Model>(robot_models());
-  set_odometry<Model>(s, ec.odometry);
+  ec.odometry = est::loop::OdometryControl<Model>::config(static_cast<float>(s.metres_per_tick));
   std::unique_ptr<MclMapModels> maps;
   std::unique_ptr<Estimator> estimator;
   if constexpr (kMcl) {

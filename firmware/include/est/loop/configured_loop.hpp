@@ -59,4 +59,18 @@ struct ConfiguredLoop {
   static constexpr LoopTiming kTiming = Config::kTiming;
 };
 
+// A config struct from template arguments, for host programs that choose the model and the filter at run time among
+// a few instantiations (estimator_node, sim_host) and pass their run-time timing to the loop's constructor.
+template <typename RobotModel, Filter F, std::uint32_t MaxParticles, std::int32_t MaxBeams, std::uint32_t QueueCapacity,
+          std::uint32_t ScanSlots>
+struct LoopConfig {
+  using Model = RobotModel;
+  static constexpr Filter kFilter = F;
+  static constexpr std::uint32_t kMaxParticles = MaxParticles;
+  static constexpr std::int32_t kMaxBeams = MaxBeams;
+  static constexpr std::uint32_t kQueueCapacity = QueueCapacity;
+  static constexpr std::uint32_t kScanSlots = ScanSlots;
+  static constexpr LoopTiming kTiming{};
+};
+
 }  // namespace est::loop

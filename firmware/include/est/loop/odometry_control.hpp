@@ -17,6 +17,7 @@ template <>
 struct OdometryControl<DiffDriveMotionModel> {
   static constexpr bool kUsesSteering = false;
   struct Config {};
+  static Config config(float) { return {}; }  // the travel per tick is the model's (wheel radius, ticks per rev)
   static bool make(const MotionInput& m, const Config&, DiffDriveMotionModel::Params&,
                    DiffDriveMotionModel::Control& u) {
     u = {m.left_ticks, m.right_ticks};
@@ -32,6 +33,7 @@ struct OdometryControl<BicycleMotionModel> {
   struct Config {
     float metres_per_tick = 0.001f;
   };
+  static Config config(float metres_per_tick) { return {metres_per_tick}; }
   static bool make(const MotionInput& m, const Config& c, BicycleMotionModel::Params& p,
                    BicycleMotionModel::Control& u) {
     if (!(m.dt_s > 0.0f)) return false;

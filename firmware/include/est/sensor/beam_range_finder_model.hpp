@@ -84,18 +84,10 @@ class BeamRangeFinderModel {
   // z >= range_max is a max reading. Non-finite z or z_exp give 0 (the caller floors the log).
   float density(float z, float z_exp) const {
     if (!fmath::isfinite(z) || !fmath::isfinite(z_exp)) return 0.0f;
-    const float zm = p_.range_max;
-    const bool is_max = z >= zm;
-    if (z < 0.0f) z = 0.0f;
-    if (is_max) z = zm;
-    if (z_exp < 0.0f) z_exp = 0.0f;
-    if (z_exp > zm) z_exp = zm;
-
-    float p = is_max ? max_density_ : rand_density_;
-    p = add_hit(p, z, z_exp);
-    if (p_.z_short > 0.0f && z <= z_exp)
-      p = add_short(p, p_.z_short * p_.lambda_short * fmath::exp(-p_.lambda_short * z), z, z_exp);
-    return p;
+    const Reading r = clamped(z);  // p_short's numerator only where it counts (z <= z*)
+    z_exp = clamp_range(z_exp);
+    const float p = add_hit(r.base, r.z, z_exp);
+    return p_.z_short > 0.0f && r.z <= z_exp ? add_short(p, short_numerator(r.z), r.z, z_exp) : p;
   }
 
   float log_density(float z, float z_exp) const {
@@ -112,31 +104,35 @@ class BeamRangeFinderModel {
     float short_num = 0.0f;  // z_short lambda e^{-lambda z}; 0 when z_short = 0
   };
   Reading reading(float z) const {
-    Reading r;
     if (!fmath::isfinite(z)) {
+      Reading r;
       r.z = __builtin_nanf("");  // no hit, no short, base 0: density 0, as density(z, z_exp) gives
       return r;
     }
-    const float zm = p_.range_max;
-    const bool is_max = z >= zm;
-    if (z < 0.0f) z = 0.0f;
-    if (is_max) z = zm;
-    r.z = z;
-    r.base = is_max ? max_density_ : rand_density_;
-    if (p_.z_short > 0.0f) r.short_num = p_.z_short * p_.lambda_short * fmath::exp(-p_.lambda_short * z);
+    Reading r = clamped(z);
+    if (p_.z_short > 0.0f) r.short_num = short_numerator(r.z);
     return r;
   }
   // z_exp must be finite (a ray caster's range); it is clamped to [0, range_max].
   float density(const Reading& r, float z_exp) const {
-    const float zm = p_.range_max;
-    if (z_exp < 0.0f) z_exp = 0.0f;
-    if (z_exp > zm) z_exp = zm;
+    z_exp = clamp_range(z_exp);
     float p = add_hit(r.base, r.z, z_exp);
     if (p_.z_short > 0.0f) p = add_short(p, r.short_num, r.z, z_exp);
     return p;
   }
 
  private:
+  // A finite reading clamped to [0, range_max] with its max-or-rand constant; short_num left 0.
+  Reading clamped(float z) const {
+    const bool is_max = z >= p_.range_max;
+    Reading r;
+    r.z = is_max ? p_.range_max : (z < 0.0f ? 0.0f : z);
+    r.base = is_max ? max_density_ : rand_density_;
+    return r;
+  }
+  float clamp_range(float z) const { return z < 0.0f ? 0.0f : (z > p_.range_max ? p_.range_max : z); }
+  float short_numerator(float z) const { return p_.z_short * p_.lambda_short * fmath::exp(-p_.lambda_short * z); }
+
   // p_hit: beyond 12 sigma the Gaussian is below 1e-31 relative, under the floor. (Computing it unconditionally and
   // selecting measured slower on the host than the branch, bench_mcl.)
   float add_hit(float p, float z, float z_exp) const {
