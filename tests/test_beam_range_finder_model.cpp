@@ -4,7 +4,7 @@
 
 #include "est/map/ray_casting.hpp"
 #include "est/sensor/beam_range_finder_model.hpp"
-#include "maps/office_map.hpp"
+#include "world/office_map.hpp"
 
 namespace {
 

@@ -12,7 +12,7 @@
 #include "est/map/ray_casting.hpp"
 #include "est/random/xoshiro128.hpp"
 #include "est/sensor/beam_range_finder_model_table.hpp"
-#include "maps/office_map.hpp"
+#include "world/office_map.hpp"
 #include "maps/ros_map_loader.hpp"
 
 namespace {

@@ -36,7 +36,7 @@ std::string error_of(const std::string& text) {
 
 TEST_CASE("the office landmarks are 16 posts with signatures 1..16", "[landmark_file]") {
   est::LandmarkMapStorage<32> map;
-  hal::maps::make_office_landmarks(map);
+  est::sim::make_office_landmarks(map);
   REQUIRE(map.size() == 16);
   for (std::int32_t j = 0; j < 16; ++j) {
     CHECK(map.view()[j].signature == static_cast<float>(j + 1));

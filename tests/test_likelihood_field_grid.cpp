@@ -7,7 +7,7 @@
 #include "est/map/ray_casting.hpp"
 #include "est/random/xoshiro128.hpp"
 #include "est/sensor/likelihood_field_grid.hpp"
-#include "maps/office_map.hpp"
+#include "world/office_map.hpp"
 
 namespace {
 

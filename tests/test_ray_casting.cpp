@@ -7,7 +7,7 @@
 
 #include "est/map/ray_casting.hpp"
 #include "est/random/xoshiro128.hpp"
-#include "maps/office_map.hpp"
+#include "world/office_map.hpp"
 #include "maps/ros_map_loader.hpp"
 
 namespace {

@@ -4,7 +4,7 @@
 
 #include "est/map/ray_casting.hpp"
 #include "est/sensor/steered_range_finder.hpp"
-#include "maps/office_map.hpp"
+#include "world/office_map.hpp"
 
 namespace {
 est::OccupancyGridStorage<400, 300> g_grid;

@@ -62,7 +62,7 @@ std::uint64_t section_loop() {
   cfg.motion.final_rot_sigma = 0.005f;
   cfg.beam_stride = 2;
   // Locals (~60 KiB of stack): the estimator and the loop hold references, and every run starts afresh.
-  Estimator estimator(cfg, 77u, g_field, free_space);
+  Estimator estimator(cfg, 77u, loop::LikelihoodFieldScan(g_field), free_space);
   estimator.initialize_at({1.0f, 1.0f, 0.0f}, 0.1f, 0.05f, 256u);
   Loop lp(estimator, Configured::kTiming);
 
@@ -80,7 +80,7 @@ std::uint64_t section_loop() {
     const std::int32_t tl = static_cast<std::int32_t>(dl / m_per_tick + 0.5f);
     const std::int32_t tr = static_cast<std::int32_t>(dr / m_per_tick + 0.5f);
     truth = DiffDriveMotionModel::predict(truth, {tl, tr}, cfg.motion);
-    const loop::WheelTicksInput ticks{k * 10 * kMs, tl, tr};
+    const loop::WheelTicksInput ticks{k * 10 * kMs, {tl, tr}, 2};
     if (k % 10 == 5) {  // a scan at 10 Hz, pushed after the next encoder sample: arrives late, within the window
       for (int b = 0; b < 60; ++b) {
         float s = 0.0f, c = 0.0f;

@@ -48,7 +48,7 @@ std::uint64_t section_loop_ekf() {
   const float m_per_tick = diff_drive_m_per_tick(cfg.motion);
   Pose2 truth{1.0f, 1.0f, 0.0f};
   constexpr loop::TimeNs kMs = 1000000;
-  lp.push(loop::WheelTicksInput{0, 0, 0});
+  lp.push(loop::WheelTicksInput{0, {0, 0}, 2});
   loop::LandmarkInput late[6];
   std::int32_t n_late = 0;
   for (int k = 1; k <= 300; ++k) {  // 3 s: forward, then a left arc
@@ -57,7 +57,7 @@ std::uint64_t section_loop_ekf() {
     const std::int32_t tl = static_cast<std::int32_t>(dl / m_per_tick + 0.5f);
     const std::int32_t tr = static_cast<std::int32_t>(dr / m_per_tick + 0.5f);
     truth = DiffDriveMotionModel::sample(truth, {tl, tr}, cfg.motion, world);
-    lp.push(loop::WheelTicksInput{k * 10 * kMs, tl, tr});
+    lp.push(loop::WheelTicksInput{k * 10 * kMs, {tl, tr}, 2});
     for (std::int32_t i = 0; i < n_late; ++i) lp.push(late[i]);  // one encoder period late
     n_late = 0;
     if (k % 20 == 10) {

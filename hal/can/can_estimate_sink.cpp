@@ -2,7 +2,7 @@
 #include "hal/can/can_estimate_sink.hpp"
 
 #include "est/math/fmath.hpp"
-#include "hal/can/estimator_dbc.hpp"
+#include "hal/can/estimate_frames.hpp"
 
 namespace hal::can {
 

@@ -2,7 +2,6 @@
 #include "hal/can/can_input.hpp"
 
 #include "hal/can/estimator_dbc.hpp"
-#include "hal/can/messages.hpp"
 
 namespace hal::can {
 
@@ -14,6 +13,7 @@ const char* to_string(FrameReject r) {
     case FrameReject::bad_checksum: return "bad_checksum";
     case FrameReject::duplicate: return "duplicate";
     case FrameReject::counter_gap: return "counter_gap";
+    case FrameReject::incomplete: return "incomplete";
     case FrameReject::kCount: break;
   }
   return "unknown";
@@ -30,34 +30,53 @@ bool CanInput::check_alive(Alive& a, std::uint8_t counter) {
   return true;
 }
 
+template <typename Msg>
+CodecStatus CanInput::single(const CanFrame& frame, TimeNs stamp_ns, Alive& alive) {
+  Msg m;
+  const CodecStatus status = decode(frame, m);
+  if (status == CodecStatus::ok && check_alive(alive, m.counter)) {
+    ++frames_accepted_;
+    port_.on(to_sample(m, stamp_ns));
+  }
+  return status;
+}
+
 void CanInput::on_frame(const CanFrame& frame, TimeNs stamp_ns) {
   if (ScanReassemblerBase::is_scan_frame(frame.id)) {
     const ScanReassemblerBase::Result r = scans_.on_frame(frame, stamp_ns);
     if (r.reject == ScanReject::none) ++frames_accepted_;
-    if (r.complete) port_.on_range_scan(scans_.scan());
+    if (r.complete) port_.on(scans_.scan());
     return;
   }
   CodecStatus status = CodecStatus::wrong_id;
-  if (frame.id == dbc::kWheelTicksId) {
-    WheelTicksMsg m;
-    status = decode(frame, m);
-    if (status == CodecStatus::ok && check_alive(wheels_alive_, m.counter)) {
-      WheelTicks s;
-      s.stamp_ns = stamp_ns;
-      s.wheel_count = 2;
-      s.count[0] = m.ticks_left;
-      s.count[1] = m.ticks_right;
-      ++frames_accepted_;
-      port_.on_wheel_ticks(s);
+  WheelTicks ticks;
+  WheelTicksFrames::Result pair;
+  switch (frame.id) {
+    case dbc::kWheelTicksId: {
+      WheelTicksMsg m;
+      status = decode(frame, m);
+      if (status == CodecStatus::ok && check_alive(wheels_alive_, m.counter)) {
+        ++frames_accepted_;
+        pair = wheel_frames_.on_first(m, stamp_ns, ticks);
+      }
+      break;
     }
-  } else if (frame.id == dbc::kSteeringId) {
-    SteeringMsg m;
-    status = decode(frame, m);
-    if (status == CodecStatus::ok && check_alive(steering_alive_, m.counter)) {
-      ++frames_accepted_;
-      port_.on_steering({stamp_ns, m.angle_rad});
+    case dbc::kWheelTicksExtId: {
+      WheelTicksExtMsg m;
+      status = decode(frame, m);
+      if (status == CodecStatus::ok) {
+        ++frames_accepted_;
+        pair = wheel_frames_.on_second(m, ticks);
+      }
+      break;
     }
+    case dbc::kSteeringId: status = single<SteeringMsg>(frame, stamp_ns, steering_alive_); break;
+    case dbc::kTwistId: status = single<TwistMsg>(frame, stamp_ns, twist_alive_); break;
+    case dbc::kOdometryId: status = single<OdometryMsg>(frame, stamp_ns, odometry_alive_); break;
+    default: break;
   }
+  if (pair.incomplete) rejects_.add(FrameReject::incomplete);
+  if (pair.sample) port_.on(ticks);
   switch (status) {
     case CodecStatus::wrong_id: rejects_.add(FrameReject::unknown_id); break;
     case CodecStatus::wrong_dlc: rejects_.add(FrameReject::wrong_dlc); break;

@@ -1,21 +1,30 @@
 // The LCM backend (hal/lcm/lcm_backend.hpp).
 #include "hal/lcm/lcm_backend.hpp"
 
+#include <algorithm>
+
 namespace hal::lcm {
 
 LcmInputs::LcmInputs(::lcm::LCM& lcm, InputConfig config, SensorPort& port, TeamPort* team)
     : lcm_(lcm), config_(std::move(config)), port_(port), team_(team) {
-  const Channels& ch = config_.channels;
-  subscriptions_.push_back(lcm_.subscribe(ch.wheel_ticks, &LcmInputs::on_wheel_ticks, this));
-  subscriptions_.push_back(lcm_.subscribe(ch.steering, &LcmInputs::on_steering, this));
-  subscriptions_.push_back(lcm_.subscribe(ch.range_scan, &LcmInputs::on_range_scan, this));
-  subscriptions_.push_back(lcm_.subscribe(ch.landmarks, &LcmInputs::on_landmarks, this));
-  if (team_ != nullptr) subscriptions_.push_back(lcm_.subscribe(ch.team, &LcmInputs::on_team, this));
+  subscribe_all(RawSamples{});
+  if (team_ != nullptr) subscriptions_.push_back(lcm_.subscribe(config_.channels.team, &LcmInputs::on_team, this));
 }
 
 LcmInputs::~LcmInputs() {
   for (::lcm::Subscription* s : subscriptions_)
     if (s != nullptr) lcm_.unsubscribe(s);
+}
+
+template <typename... Samples>
+void LcmInputs::subscribe_all(SampleList<Samples...>) {
+  (..., (input_channels_.push_back(config_.channels.*LcmCodec<Samples>::channel),
+         subscriptions_.push_back(
+             lcm_.subscribe(config_.channels.*LcmCodec<Samples>::channel, &LcmInputs::receive<Samples>, this))));
+}
+
+bool LcmInputs::is_input_channel(const std::string& channel) const {
+  return std::find(input_channels_.begin(), input_channels_.end(), channel) != input_channels_.end();
 }
 
 bool LcmInputs::note(LcmReject r) {
@@ -27,32 +36,15 @@ bool LcmInputs::note(LcmReject r) {
   return false;
 }
 
-void LcmInputs::on_wheel_ticks(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {
-  est_lcm::encoder_ticks_t m{};
-  WheelTicks s;
-  LcmReject r = decode_guarded(rbuf->data, rbuf->data_size, m, static_cast<std::int64_t>(kMaxWheels));
-  if (r == LcmReject::none) r = to_hal(m, config_.wheel_counter_bits, s);
-  if (note(r)) port_.on_wheel_ticks(s);
-}
-
-void LcmInputs::on_steering(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {
-  est_lcm::steering_t m{};
-  if (note(decode_guarded(rbuf->data, rbuf->data_size, m, 0))) port_.on_steering(to_hal(m));
-}
-
-void LcmInputs::on_range_scan(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {
-  est_lcm::range_scan_t m{};
-  RangeScanView view;
-  LcmReject r = decode_guarded(rbuf->data, rbuf->data_size, m, static_cast<std::int64_t>(config_.max_ranges));
-  if (r == LcmReject::none) r = to_hal(m, view);
-  if (note(r)) port_.on_range_scan(view);
-}
-
-void LcmInputs::on_landmarks(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {
-  est_lcm::landmark_sighting_t m{};
-  LcmReject r = decode_guarded(rbuf->data, rbuf->data_size, m, static_cast<std::int64_t>(kMaxLandmarkFeatures));
-  if (r == LcmReject::none) r = to_hal(m, sighting_);
-  if (note(r)) port_.on_landmarks(sighting_.view());
+template <typename Sample>
+void LcmInputs::receive(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {
+  using Codec = LcmCodec<Sample>;
+  typename Codec::Message m{};
+  typename Codec::Storage storage;
+  Sample sample{};
+  LcmReject r = decode_guarded(rbuf->data, rbuf->data_size, m, Codec::max_count(config_));
+  if (r == LcmReject::none) r = Codec::to_hal(m, config_, storage, sample);
+  if (note(r)) port_.on(sample);
 }
 
 void LcmInputs::on_team(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {

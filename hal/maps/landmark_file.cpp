@@ -36,17 +36,6 @@ bool field(const char*& p, float& out) {
 
 }  // namespace
 
-void make_office_landmarks(est::LandmarkMapBuffer& out) {
-  const float posts[16][2] = {{0.5f, 8.0f},  {4.5f, 6.5f},  {8.5f, 8.1f},   {12.0f, 6.5f}, {17.0f, 8.0f}, {19.3f, 6.6f},
-                              {13.5f, 9.0f}, {16.8f, 9.2f}, {11.0f, 11.0f}, {8.5f, 13.5f}, {7.5f, 9.2f},  {4.5f, 12.0f},
-                              {2.0f, 9.0f},  {6.0f, 14.0f}, {18.5f, 12.5f}, {9.7f, 5.0f}};
-  out.clear();
-  for (int i = 0; i < 16; ++i) {
-    const est::MapStatus s = out.add({posts[i][0], posts[i][1], static_cast<float>(i + 1)});
-    if (s != est::MapStatus::ok) throw std::runtime_error(std::string("office landmarks: ") + to_string(s));
-  }
-}
-
 void load_landmark_csv(const std::string& path, est::LandmarkMapBuffer& out) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open");

@@ -10,7 +10,7 @@ std::unique_ptr<OfficeWorld> build() {
   auto w = std::make_unique<OfficeWorld>();
   make_office_map(w->grid_storage);
   if (w->edt_storage.build(w->grid()) != MapStatus::ok) throw std::runtime_error("office_world: distance transform");
-  hal::maps::make_office_landmarks(w->landmark_storage);
+  make_office_landmarks(w->landmark_storage);
   return w;
 }
 

@@ -6,7 +6,7 @@
 #include "est/map/distance_transform.hpp"
 #include "est/map/landmark_map.hpp"
 #include "est/map/occupancy_grid.hpp"
-#include "maps/office_map.hpp"
+#include "world/office_map.hpp"
 #include "world/route.hpp"
 
 namespace est::sim {

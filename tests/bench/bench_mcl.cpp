@@ -30,7 +30,7 @@
 #include "est/sensor/likelihood_field_grid.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
 #include "est/sensor/range_scan.hpp"
-#include "maps/office_map.hpp"
+#include "world/office_map.hpp"
 #include "maps/ros_map_loader.hpp"
 
 namespace {

@@ -18,7 +18,7 @@
 #include "est/random/xoshiro128.hpp"
 #include "est/sensor/beam_range_finder_model.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
-#include "maps/office_map.hpp"
+#include "world/office_map.hpp"
 #include "maps/ros_map_loader.hpp"
 
 namespace {

@@ -1,31 +1,28 @@
 #pragma once
 // The HAL-to-loop adapter: validated HAL samples in (it is the ValidatedSensorPort that hal::ValidatedInputs feeds),
 // est::loop inputs out to a FilterLoop, and every LoopOutput on to an EstimateSink as a hal::Estimate whose status is
-// the loop's bits | the transports' bits, with the count of inputs rejected anywhere on the way.
+// the loop's bits | the transports' bits, with the count of inputs rejected anywhere on the way. Each sensor's
+// to_loop_inputs (in its folder, hal/sensors/<sensor>/) converts its checked sample, once.
 //
 // The loop runs after every input handed to it, so its outputs are a function of the sequence of inputs alone: a
 // node that records that sequence (with the stamps the loop used) and replays it gets the same estimates, bit for
 // bit, whatever the transport's batching or the wall clock did. The clock times the steps (overruns), nothing else.
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "est/loop/filter_loop.hpp"
 #include "hal/estimate.hpp"
 #include "hal/fault.hpp"
-#include "hal/landmarks.hpp"
-#include "hal/range_scan.hpp"
 #include "hal/sensor_port.hpp"
 #include "hal/status_word.hpp"
-#include "hal/steering.hpp"
 #include "hal/time.hpp"
-#include "hal/wheel_ticks.hpp"
 
 namespace hal {
 
 // What the adapter itself refuses (the validators have passed the sample; the loop's shape does not fit it).
 enum class LoopPortReject : std::uint8_t {
   none = 0,
-  wheel_count,     // fewer than two wheels: the loop's odometry takes a left and a right increment
   scan_too_large,  // more beams than the loop's scan slots hold
   kCount
 };
@@ -33,7 +30,6 @@ enum class LoopPortReject : std::uint8_t {
 inline const char* to_string(LoopPortReject r) {
   switch (r) {
     case LoopPortReject::none: return "none";
-    case LoopPortReject::wheel_count: return "wheel_count";
     case LoopPortReject::scan_too_large: return "scan_too_large";
     case LoopPortReject::kCount: break;
   }
@@ -42,59 +38,22 @@ inline const char* to_string(LoopPortReject r) {
 
 using LoopPortRejectCounters = ReasonCounters<LoopPortReject>;
 
-// HAL samples as the loop's inputs. Wheels 0 and 1 are left and right (the bicycle's traction encoder is wheel 0).
-inline est::loop::WheelTicksInput to_loop_input(const WheelTickDelta& d) {
-  return {d.stamp_ns, d.ticks[0], d.ticks[1]};
-}
-
-inline est::loop::SteeringInput to_loop_input(const SteeringSample& s) { return {s.stamp_ns, s.angle_rad}; }
-
-inline est::loop::LandmarkInput to_loop_input(TimeNs stamp_ns, const LandmarkFeature& f) {
-  return {stamp_ns, f.range_m, f.bearing_rad, f.signature, f.id};
-}
-
-// The view's readings are not copied: the result is valid while the view is (the loop's queue copies them).
-inline est::loop::ScanInput to_loop_input(const RangeScanView& s) {
-  est::loop::ScanInput in;
-  in.t_ns = s.stamp_ns;
-  in.layout.angle_min = s.geometry.angle_min_rad;
-  in.layout.angle_increment = s.geometry.angle_increment_rad;
-  in.layout.count = s.count > 0x7fffffffu ? 0x7fffffff : static_cast<std::int32_t>(s.count);
-  in.layout.range_min = s.geometry.range_min_m;
-  in.layout.range_max = s.geometry.range_max_m;
-  in.ranges = s.ranges;
-  return in;
-}
-
-template <typename Estimator, std::uint32_t QueueCapacity, std::int32_t KMax, std::uint32_t ScanSlots = 2>
-class LoopPort final : public ValidatedSensorPort {
+template <typename Estimator>
+class LoopPort final : public PortImplementation<LoopPort<Estimator>, ValidatedSensorPort> {
  public:
-  using Loop = est::loop::FilterLoop<Estimator, QueueCapacity, KMax, ScanSlots>;
+  using Loop = est::loop::FilterLoop<Estimator>;
 
   LoopPort(Loop& loop, Clock& step_clock, EstimateSink& sink) : loop_(loop), clock_{step_clock}, publisher_{this, sink} {
     last_good_.covariance = Eigen::Matrix3f::Identity() * kUnknownVariance;
   }
 
-  void on_wheel_motion(const WheelTickDelta& delta) override {
-    if (delta.wheel_count < 2u) return reject(LoopPortReject::wheel_count);
-    loop_.push(to_loop_input(delta));
-    loop_.run(clock_, publisher_);
-  }
-
-  void on_steering(const SteeringSample& sample) override {
-    loop_.push(to_loop_input(sample));
-    loop_.run(clock_, publisher_);
-  }
-
-  void on_range_scan(const RangeScanView& scan) override {
-    if (scan.count == 0u || scan.count > static_cast<std::size_t>(KMax)) return reject(LoopPortReject::scan_too_large);
-    loop_.push(to_loop_input(scan));
-    loop_.run(clock_, publisher_);
-  }
-
-  // One loop input per feature, all with the sighting's stamp (the loop fuses them in a fixed order).
-  void on_landmarks(const LandmarkSightingView& sighting) override {
-    for (std::size_t i = 0; i < sighting.count; ++i) loop_.push(to_loop_input(sighting.stamp_ns, sighting.features[i]));
+  template <typename Checked>
+  void handle(const Checked& sample) {
+    if constexpr (std::is_same_v<Checked, RangeScanView>) {
+      if (sample.count == 0u || sample.count > static_cast<std::size_t>(loop_.max_beams()))
+        return rejects_.add(LoopPortReject::scan_too_large);
+    }
+    to_loop_inputs(sample, [this](const auto& in) { loop_.push(in); });
     loop_.run(clock_, publisher_);
   }
 
@@ -131,8 +90,6 @@ class LoopPort final : public ValidatedSensorPort {
     EstimateSink& sink;
     void operator()(const est::loop::LoopOutput& o) { self->publish(sink, o); }
   };
-
-  void reject(LoopPortReject r) { rejects_.add(r); }
 
   static bool finite(const Estimate& e) {
     if (!__builtin_isfinite(e.pose.x) || !__builtin_isfinite(e.pose.y) || !__builtin_isfinite(e.pose.theta))

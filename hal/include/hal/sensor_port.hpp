@@ -1,35 +1,52 @@
 #pragma once
-// The input ports. A backend (CAN, LCM, board driver, replay) calls SensorPort with raw decoded samples;
-// ValidatedInputs checks them and calls ValidatedSensorPort, which is what the filter loop implements.
-#include "hal/landmarks.hpp"
-#include "hal/range_scan.hpp"
-#include "hal/steering.hpp"
-#include "hal/wheel_ticks.hpp"
+// The input ports. A backend (CAN, LCM, board driver, replay) calls a SensorPort with raw decoded samples;
+// ValidatedInputs checks them and calls a ValidatedSensorPort, which is what the filter loop's adapter implements.
+// Each port has one `on(const Sample&)` per entry of its sample list (hal/samples.hpp); PortImplementation<Derived,
+// Port> implements all of them with one member template `Derived::handle(const Sample&)`, so a class that treats
+// every sample alike (a gate, a recorder, a forwarder) is written once for every sensor.
+// Views passed in are valid only during the call: copy what you keep.
+#include "hal/samples.hpp"
 
 namespace hal {
 
-class SensorPort {
+template <typename Sample>
+class Receives {
  public:
-  virtual void on_wheel_ticks(const WheelTicks& sample) = 0;
-  virtual void on_steering(const SteeringSample& sample) = 0;
-  // The view is valid only during the call: copy what you keep.
-  virtual void on_range_scan(const RangeScanView& scan) = 0;
-  // The features of one sighting; the view is valid only during the call.
-  virtual void on_landmarks(const LandmarkSightingView& sighting) = 0;
+  virtual void on(const Sample& sample) = 0;
 
  protected:
-  ~SensorPort() = default;
+  ~Receives() = default;
 };
 
-class ValidatedSensorPort {
+template <typename List>
+class PortOf;
+template <typename... Samples>
+class PortOf<SampleList<Samples...>> : public Receives<Samples>... {
  public:
-  virtual void on_wheel_motion(const WheelTickDelta& delta) = 0;
-  virtual void on_steering(const SteeringSample& sample) = 0;
-  virtual void on_range_scan(const RangeScanView& scan) = 0;
-  virtual void on_landmarks(const LandmarkSightingView& sighting) = 0;
+  using List = SampleList<Samples...>;
+  using Receives<Samples>::on...;
 
  protected:
-  ~ValidatedSensorPort() = default;
+  ~PortOf() = default;
 };
+
+using SensorPort = PortOf<RawSamples>;
+using ValidatedSensorPort = PortOf<CheckedSamples>;
+
+namespace detail {
+template <typename Derived, typename Port, typename List>
+class Implement;
+template <typename Derived, typename Port>
+class Implement<Derived, Port, SampleList<>> : public Port {};
+template <typename Derived, typename Port, typename Sample, typename... Rest>
+class Implement<Derived, Port, SampleList<Sample, Rest...>> : public Implement<Derived, Port, SampleList<Rest...>> {
+ public:
+  using Port::on;
+  void on(const Sample& s) override { static_cast<Derived*>(this)->handle(s); }
+};
+}  // namespace detail
+
+template <typename Derived, typename Port>
+using PortImplementation = detail::Implement<Derived, Port, typename Port::List>;
 
 }  // namespace hal

@@ -17,6 +17,8 @@ inline constexpr std::uint32_t kNotInitialized = est::loop::status::kNotInitiali
 inline constexpr std::uint32_t kInputTooOld = est::loop::status::kInputTooOld;
 inline constexpr std::uint32_t kQueueFull = est::loop::status::kQueueFull;
 inline constexpr std::uint32_t kLandmarkTimeout = est::loop::status::kLandmarkTimeout;
+inline constexpr std::uint32_t kTwistTimeout = est::loop::status::kTwistTimeout;
+inline constexpr std::uint32_t kOdometryTimeout = est::loop::status::kOdometryTimeout;
 
 // Transports.
 inline constexpr std::uint32_t kCanLinkDown = 1u << 16;       // interface missing or down; reconnecting

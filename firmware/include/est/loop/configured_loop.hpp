@@ -1,18 +1,21 @@
 #pragma once
-// The firmware's configuration in one static struct: the robot model, the filter (MCL or EKF), the capacities, and
-// the loop's rates and staleness limits. ConfiguredLoop<Config> turns it into the estimator and loop types:
+// The firmware's configuration in one static struct: the robot model, the filter (MCL or EKF), MCL's range model,
+// the capacities, and the loop's rates and staleness limits. ConfiguredLoop<Config> turns it into the estimator and
+// loop types:
 //
 //   struct RigConfig {
-//     using Model = est::BicycleMotionModel;                    // or DiffDriveMotionModel
+//     using Model = est::BicycleMotionModel;                    // any model of est/motion (est/loop/controls/)
 //     static constexpr est::loop::Filter kFilter = est::loop::Filter::mcl;
+//     using ScanModel = est::loop::LikelihoodFieldScan;         // MCL only, optional (this is the default); or
+//                                                               // BeamScan<Caster>, SteeredScan<...>
 //     static constexpr std::uint32_t kMaxParticles = 2048;      // MCL only
 //     static constexpr std::int32_t kMaxBeams = 360;            // scan capacity (an EKF rig: 1, it drops scans)
 //     static constexpr std::uint32_t kQueueCapacity = 64;       // inputs pending within the reorder window
 //     static constexpr std::uint32_t kScanSlots = 2;
-//     static constexpr est::loop::LoopTiming kTiming{10'000'000, 20'000'000, ...};  // 100 Hz predict, limits
+//     static constexpr est::loop::LoopTiming kTiming{};         // 100 Hz predict, 20 ms window, staleness limits
 //   };
 //   using Rig = est::loop::ConfiguredLoop<RigConfig>;
-//   Rig::Estimator estimator(estimator_config, ...);   // MclEstimator<Model, N, K> or EkfEstimator<Model>
+//   Rig::Estimator estimator(estimator_config, seed, scan_model, free_space);   // or (config, landmark map): EKF
 //   Rig::Loop loop(estimator, RigConfig::kTiming);
 //
 // Corrections run at the rate their inputs arrive (a scan or a landmark sighting each); predictions at
@@ -23,6 +26,7 @@
 
 #include "est/loop/ekf_estimator.hpp"
 #include "est/loop/filter_loop.hpp"
+#include "est/loop/likelihood_field_scan.hpp"
 #include "est/loop/mcl_estimator.hpp"
 
 namespace est::loop {
@@ -30,15 +34,25 @@ namespace est::loop {
 enum class Filter : std::uint8_t { mcl, ekf };
 
 namespace detail {
+template <typename Config, typename = void>
+struct ScanModelOf {
+  using type = LikelihoodFieldScan;
+};
+template <typename Config>
+struct ScanModelOf<Config, std::void_t<typename Config::ScanModel>> {
+  using type = typename Config::ScanModel;
+};
+
 template <typename Config, Filter F>
 struct EstimatorOf;
 template <typename Config>
 struct EstimatorOf<Config, Filter::mcl> {
-  using type = MclEstimator<typename Config::Model, Config::kMaxParticles, Config::kMaxBeams>;
+  using type = MclEstimator<typename Config::Model, Config::kMaxParticles, Config::kMaxBeams,
+                            typename ScanModelOf<Config>::type>;
   using config = MclEstimatorConfig<typename Config::Model>;
 };
 template <typename Config>
-struct EstimatorOf<Config, Filter::ekf> {  // kMaxParticles is not needed
+struct EstimatorOf<Config, Filter::ekf> {  // kMaxParticles and ScanModel are not needed
   using type = EkfEstimator<typename Config::Model>;
   using config = EkfEstimatorConfig<typename Config::Model>;
 };
@@ -55,16 +69,17 @@ struct ConfiguredLoop {
 
   using Estimator = typename detail::EstimatorOf<Config, kFilter>::type;
   using EstimatorConfig = typename detail::EstimatorOf<Config, kFilter>::config;
-  using Loop = FilterLoop<Estimator, Config::kQueueCapacity, Config::kMaxBeams, Config::kScanSlots>;
+  using Loop = FilterLoopStorage<Estimator, Config::kQueueCapacity, Config::kMaxBeams, Config::kScanSlots>;
   static constexpr LoopTiming kTiming = Config::kTiming;
 };
 
-// A config struct from template arguments, for host programs that choose the model and the filter at run time among
-// a few instantiations (estimator_node, sim_host) and pass their run-time timing to the loop's constructor.
+// A config struct from template arguments, for host programs that choose the model, the filter and the range model
+// at run time among a few instantiations (estimator_node, sim_host) and pass their run-time timing to the loop.
 template <typename RobotModel, Filter F, std::uint32_t MaxParticles, std::int32_t MaxBeams, std::uint32_t QueueCapacity,
-          std::uint32_t ScanSlots>
+          std::uint32_t ScanSlots, typename Range = LikelihoodFieldScan>
 struct LoopConfig {
   using Model = RobotModel;
+  using ScanModel = Range;
   static constexpr Filter kFilter = F;
   static constexpr std::uint32_t kMaxParticles = MaxParticles;
   static constexpr std::int32_t kMaxBeams = MaxBeams;

@@ -1,6 +1,7 @@
 #pragma once
 // The loop's EKF localization estimator (Probabilistic Robotics table 7.2, and table 7.3 for features without a
-// correspondence): the wheel-odometry motion model's mean and Jacobians predict, landmark features of a known map
+// correspondence): any motion model's mean and Jacobians predict (through its control assembler,
+// est/loop/control_assemblers.hpp), landmark features of a known map
 // correct, one feature at a time. Storage is the 3 x 3 belief; the landmark map is owned by the caller and outlives
 // the estimator. Features are in the robot frame (a landmark sensor mounted elsewhere is transformed by its driver).
 //
@@ -13,7 +14,7 @@
 #include "est/filter/ekf_localization.hpp"
 #include "est/filter/particle_estimate.hpp"
 #include "est/loop/filter_loop.hpp"
-#include "est/loop/odometry_control.hpp"
+#include "est/loop/control_assemblers.hpp"
 #include "est/map/landmark_map.hpp"
 #include "est/sensor/landmark_model.hpp"
 
@@ -23,7 +24,7 @@ template <typename Model>
 struct EkfEstimatorConfig {
   typename EkfLocalization<Model>::Params ekf{};
   typename Model::Params motion{};
-  typename OdometryControl<Model>::Config odometry{};
+  typename ControlAssembler<Model>::Config control{};
   LandmarkNoise noise{};      // of the landmark sensor (sigma_signature <= 0: signatures not used)
   float lost_sigma_m = 5.0f;  // position standard deviation (the larger axis) above which the belief is degenerate
 };
@@ -34,12 +35,12 @@ class EkfEstimator {
 
  public:
   using Filter = EkfLocalization<Model>;
-  static constexpr bool kUsesSteering = OdometryControl<Model>::kUsesSteering;
-  static constexpr bool kUsesScans = false;
-  static constexpr bool kUsesLandmarks = true;
+  using Assembler = ControlAssembler<Model>;
 
   EkfEstimator(const EkfEstimatorConfig<Model>& config, const LandmarkMap& map)
       : config_(config), ekf_(config.ekf), map_(map) {}
+
+  InputKinds inputs() const { return Assembler::inputs(config_.control) | InputKind::landmark; }
 
   // A Gaussian start; false (and still uninitialized) when the pose or the deviations are not finite and positive.
   bool initialize_at(const Pose2& pose, float sigma_xy, float sigma_theta) {
@@ -53,13 +54,14 @@ class EkfEstimator {
     return initialized_;
   }
 
-  // Table 7.2 lines 2-7 over the ticks since the last prediction.
+  // Table 7.2 lines 2-7 over the motion since the last prediction.
   StepOutcome predict(const MotionInput& m) {
     if (!initialized_) return StepOutcome::rejected;
-    if (m.left_ticks == 0 && m.right_ticks == 0) return StepOutcome::applied;  // standing still: no diffusion
     typename Model::Params p = config_.motion;
     typename Model::Control u{};
-    if (!OdometryControl<Model>::make(m, config_.odometry, p, u)) return StepOutcome::rejected;
+    const ControlStatus c = Assembler::make(m, config_.control, p, u);
+    if (c == ControlStatus::still) return StepOutcome::applied;  // standing still: no diffusion
+    if (c == ControlStatus::rejected) return StepOutcome::rejected;
     if (!usable(ekf_.predict(u, p))) return StepOutcome::rejected;
     return lost() ? StepOutcome::degenerate : StepOutcome::applied;
   }

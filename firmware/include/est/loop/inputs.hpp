@@ -1,24 +1,47 @@
 #pragma once
-// What the filter loop consumes: timestamped samples in firmware types. Backends (hal/) validate raw samples and
-// convert them to these; the loop never sees a bus, a file or a clock other than the one it is given.
+// What the filter loop consumes: timestamped samples in firmware types, one payload per input kind
+// (est/loop/input_kinds.hpp lists the kinds and what the loop does with each). Backends (hal/) validate raw samples
+// and convert them to these; the loop never sees a bus, a file or a clock other than the one it is given.
 #include <cstdint>
 
+#include "est/geometry/pose2.hpp"
 #include "est/sensor/range_scan.hpp"
 
 namespace est::loop {
 
 using TimeNs = std::int64_t;  // monotonic nanoseconds, the same clock for every input
 
-// Encoder tick increments since the previous sample of the same encoders (wrap-around already resolved).
+inline constexpr std::int32_t kMaxWheels = 4;
+
+// Encoder tick increments of each wheel since the previous sample of the same encoders (wrap-around already
+// resolved), over (previous stamp, t_ns]. Which wheel is which is the robot's (its control assembler says).
 struct WheelTicksInput {
   TimeNs t_ns = 0;
-  std::int32_t left_ticks = 0;
-  std::int32_t right_ticks = 0;
+  std::int32_t ticks[kMaxWheels] = {};
+  std::uint8_t wheel_count = 0;
 };
 
+// The steering angle at t_ns (left positive); held until the next sample.
 struct SteeringInput {
   TimeNs t_ns = 0;
   float angle_rad = 0.0f;
+};
+
+// A commanded or measured body twist, held from t_ns until the next sample: forward and leftward speed and yaw
+// rate. (v, w) for the velocity model is (v1, w) with v2 = 0; (u_x, u_y) of the holonomic robot is (v1, v2).
+struct TwistInput {
+  TimeNs t_ns = 0;
+  float v1_mps = 0.0f;
+  float v2_mps = 0.0f;
+  float w_rps = 0.0f;
+};
+
+// An odometry pose increment over (previous stamp, t_ns]: the pose of the odometry frame at t_ns in the odometry
+// frame of the previous sample (x_bar_{t-1} (-) x_bar_t of Thrun table 5.6, what a base that publishes its
+// odometry pose gives after differencing).
+struct OdometryInput {
+  TimeNs t_ns = 0;
+  Pose2 increment;
 };
 
 // A scan as the models need it; `ranges` must stay valid only during the call that passes it in.

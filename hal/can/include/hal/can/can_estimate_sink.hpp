@@ -3,7 +3,7 @@
 #include <cstdint>
 
 #include "hal/can/frame.hpp"
-#include "hal/can/messages.hpp"
+#include "hal/can/estimate_frames.hpp"
 #include "hal/estimate.hpp"
 
 namespace hal::can {

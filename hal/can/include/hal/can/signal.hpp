@@ -2,7 +2,7 @@
 // Packing one DBC signal into the 8 data bytes and back: raw bits, two's complement, factor and offset.
 #include <cstdint>
 
-#include "hal/can/estimator_dbc.hpp"
+#include "hal/can/signal_spec.hpp"
 
 namespace hal::can {
 

@@ -1,35 +1,19 @@
 #pragma once
 // The LCM backend: sensor inputs from LCM channels into a hal::SensorPort (and team messages into a TeamPort),
-// estimates and health out to LCM channels. Channel names are configuration. Host only.
+// estimates and health out to LCM channels. Every sensor is received the same way, by its LcmCodec
+// (hal/sensors/<sensor>/lcm.hpp). Host only.
 #include <cstdint>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <vector>
 
 #include "hal/estimate.hpp"
+#include "hal/lcm/channels.hpp"
 #include "hal/lcm/lcm_convert.hpp"
 #include "hal/sensor_port.hpp"
 #include "hal/team_message.hpp"
 
 namespace hal::lcm {
-
-struct Channels {
-  std::string wheel_ticks = "EST_WHEEL_TICKS";
-  std::string steering = "EST_STEERING";
-  std::string range_scan = "EST_RANGE_SCAN";
-  std::string landmarks = "EST_LANDMARKS";
-  std::string team = "EST_TEAM";
-  std::string pose = "EST_POSE";
-  std::string particles = "EST_PARTICLES";
-  std::string status = "EST_STATUS";
-  std::string ground_truth = "EST_GROUND_TRUTH";
-};
-
-struct InputConfig {
-  Channels channels;
-  unsigned wheel_counter_bits = 32;  // encoder_ticks_t.counter_bits must match (the HAL validator unwraps with it)
-  std::size_t max_ranges = 4096;     // larger scans are rejected before decoding
-};
 
 // Subscribes on construction, unsubscribes on destruction. Messages arrive during lcm.handle*() calls.
 class LcmInputs {
@@ -42,12 +26,14 @@ class LcmInputs {
   const LcmRejectCounters& rejects() const { return rejects_; }
   const FaultCounters& team_faults() const { return team_faults_; }
   std::uint64_t accepted() const { return accepted_; }
+  // Whether `channel` is one of the sensor channels this receives.
+  bool is_input_channel(const std::string& channel) const;
 
  private:
-  void on_wheel_ticks(const ::lcm::ReceiveBuffer* rbuf, const std::string& channel);
-  void on_steering(const ::lcm::ReceiveBuffer* rbuf, const std::string& channel);
-  void on_range_scan(const ::lcm::ReceiveBuffer* rbuf, const std::string& channel);
-  void on_landmarks(const ::lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  template <typename Sample>
+  void receive(const ::lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  template <typename... Samples>
+  void subscribe_all(SampleList<Samples...>);
   void on_team(const ::lcm::ReceiveBuffer* rbuf, const std::string& channel);
   bool note(LcmReject r);
 
@@ -56,11 +42,11 @@ class LcmInputs {
   SensorPort& port_;
   TeamPort* team_;
   std::vector<::lcm::Subscription*> subscriptions_;
+  std::vector<std::string> input_channels_;
   LcmRejectCounters rejects_;
   FaultCounters team_faults_;
   std::uint64_t accepted_ = 0;
   TeamMessage team_message_;  // large: kept here rather than on the stack
-  LandmarkSighting<kMaxLandmarkFeatures> sighting_;
 };
 
 class LcmOutputs final : public EstimateSink {

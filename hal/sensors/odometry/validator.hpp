@@ -1,0 +1,42 @@
+#pragma once
+// Checks odometry poses and differences them into increments: finite, within the coordinate range, fresh and
+// monotonic, and moving no faster than the base can (a jump is an odometry reset: rejected as out_of_range and
+// taken as the new reference, so one reset costs one interval, as a wheel counter's glitch does).
+#include "hal/fault.hpp"
+#include "hal/sample_timing.hpp"
+#include "hal/sensors/odometry/odometry.hpp"
+
+namespace hal {
+
+struct OdometryLimits {
+  float max_coordinate_m = 1.0e6f;   // |x|, |y| of the odometry frame
+  float max_speed_mps = 5.0f;        // translation of an increment over its dt
+  float max_turn_rate_rps = 10.0f;   // rotation of an increment over its dt
+  TimeNs max_gap_ns = 500 * kNsPerMs;  // after a longer gap the motion is unknown: start afresh
+  TimingLimits timing;
+};
+
+class OdometryValidator {
+ public:
+  using Limits = OdometryLimits;
+  static constexpr const char* kName = "odometry";
+
+  explicit OdometryValidator(const OdometryLimits& limits = {}) : limits_(limits), timing_(limits.timing) {}
+
+  Fault check(const OdometrySample& sample, TimeNs now_ns, OdometryDelta& out);
+
+  const FaultCounters& faults() const { return faults_; }
+
+ private:
+  Fault reject(Fault f) {
+    faults_.add(f);
+    return f;
+  }
+
+  OdometryLimits limits_;
+  SampleTiming timing_;
+  OdometrySample last_;
+  FaultCounters faults_;
+};
+
+}  // namespace hal

@@ -1,0 +1,32 @@
+#pragma once
+// Checks twists: finite, within the base's speed and turn-rate limits, fresh, monotonic.
+#include "hal/fault.hpp"
+#include "hal/sample_timing.hpp"
+#include "hal/sensors/twist/twist.hpp"
+
+namespace hal {
+
+struct TwistLimits {
+  float max_speed_mps = 5.0f;      // |v1| and |v2|
+  float max_turn_rate_rps = 10.0f; // |w|
+  TimingLimits timing;
+};
+
+class TwistValidator {
+ public:
+  using Limits = TwistLimits;
+  static constexpr const char* kName = "twist";
+
+  explicit TwistValidator(const TwistLimits& limits = {}) : limits_(limits), timing_(limits.timing) {}
+
+  Fault check(const TwistSample& sample, TimeNs now_ns, TwistSample& out);
+
+  const FaultCounters& faults() const { return faults_; }
+
+ private:
+  TwistLimits limits_;
+  SampleTiming timing_;
+  FaultCounters faults_;
+};
+
+}  // namespace hal

@@ -1,0 +1,511 @@
+// estimator_node as a library (node/node.hpp).
+#include "node/node.hpp"
+
+#include <poll.h>
+#include <signal.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <lcm/lcm-cpp.hpp>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "est/map/distance_transform.hpp"
+#include "est/map/landmark_map.hpp"
+#include "est/map/occupancy_grid.hpp"
+#include "hal/can/can_estimate_sink.hpp"
+#include "hal/can/can_input.hpp"
+#include "hal/can/candump.hpp"
+#include "hal/can/estimator_dbc.hpp"
+#include "hal/forward.hpp"
+#include "hal/lcm/lcm_backend.hpp"
+#include "hal/lcm/lcm_convert.hpp"
+#include "hal/maps/landmark_file.hpp"
+#include "hal/maps/ros_map_loader.hpp"
+#include "hal/socketcan/socketcan_bus.hpp"
+#include "hal/status_word.hpp"
+#include "node/lcm_log_io.hpp"
+#include "world/office_map.hpp"
+
+namespace node {
+
+namespace {
+
+std::atomic<int> g_stop_signal{0};
+extern "C" void on_stop_signal(int sig) { g_stop_signal.store(sig); }
+
+struct MonotonicClock final : hal::Clock {
+  TimeNs now_ns() override { return hal::socketcan::monotonic_now_ns(); }
+};
+// Replay: the HAL's checks see each sample at its own stamp.
+struct StampClock final : hal::Clock {
+  TimeNs now = 0;
+  TimeNs now_ns() override { return now; }
+};
+// Replay: steps take no time (timing is not part of a lockstep replay's results).
+struct FrozenClock final : hal::Clock {
+  TimeNs now_ns() override { return 0; }
+};
+
+std::uint32_t saturate(std::uint64_t v) { return v > UINT32_MAX ? UINT32_MAX : static_cast<std::uint32_t>(v); }
+
+template <typename Reason, typename Counters>
+std::string reason_list(const Counters& c) {
+  std::string s;
+  for (std::size_t i = 1; i < static_cast<std::size_t>(Reason::kCount); ++i) {
+    const auto r = static_cast<Reason>(i);
+    s += " ";
+    s += to_string(r);
+    s += "=" + std::to_string(c[r]);
+  }
+  return s;
+}
+
+// The maps of a run, loaded once and outliving the pipeline.
+struct LoadedMaps {
+  est::OccupancyGridStorage<kMapMaxSide, kMapMaxSide> grid;
+  est::DistanceTransformStorage<kMapMaxSide, kMapMaxSide> edt;
+  est::LandmarkMapStorage<kMaxLandmarks> landmarks;
+  EstimatorMaps view;
+};
+
+std::unique_ptr<LoadedMaps> load_maps(const NodeConfig& c) {
+  auto m = std::make_unique<LoadedMaps>();
+  if (c.spec.filter == est::loop::Filter::ekf) {
+    if (c.landmarks == "office") {
+      est::sim::make_office_landmarks(m->landmarks);
+      m->view.description = "office landmarks (the simulator's, 16 posts)";
+    } else {
+      hal::maps::load_landmark_csv(c.landmarks, m->landmarks);
+      m->view.description = c.landmarks + " (" + std::to_string(m->landmarks.size()) + " landmarks)";
+    }
+    m->view.landmarks = m->landmarks.view();
+    return m;
+  }
+  if (c.map == "office") {
+    est::sim::make_office_map(m->grid);
+    m->view.description = "office (the simulator's, 20 m x 15 m at 0.05 m)";
+  } else {
+    const hal::maps::RosMapInfo info = hal::maps::load_ros_map(c.map, m->grid);
+    m->view.description = c.map + " (" + std::to_string(m->grid.width()) + " x " + std::to_string(m->grid.height()) +
+                          " at " + std::to_string(info.resolution) + " m)";
+  }
+  if (m->edt.build(m->grid.grid()) != est::MapStatus::ok) throw std::runtime_error("map: distance transform failed");
+  m->view.grid = m->grid.grid();
+  m->view.edt = m->edt.view();
+  return m;
+}
+
+// Every estimate to every output; status_t at a fixed rate of input time.
+class NodeOutputs final : public hal::EstimateSink {
+ public:
+  NodeOutputs(const NodeConfig& c, std::function<est_lcm::status_t(const hal::Estimate&)> make_status)
+      : channels_(c.channels),
+        status_period_ns_(c.status_hz > 0.0 ? static_cast<TimeNs>(1.0e9 / c.status_hz) : 0),
+        make_status_(std::move(make_status)) {}
+
+  hal::lcm::LcmOutputs* lcm = nullptr;
+  hal::can::CanEstimateSink* can = nullptr;
+  LogWriter* log = nullptr;
+  CandumpWriter* candump = nullptr;
+  hal::can::CanEstimateSink* candump_sink = nullptr;
+
+  void publish(const hal::Estimate& e) override {
+    ++count_;
+    last_ = e;
+    if (lcm != nullptr) lcm->publish(e);
+    if (can != nullptr) can->publish(e);
+    if (candump_sink != nullptr) {
+      candump->set_stamp(e.stamp_ns);
+      candump_sink->publish(e);
+    }
+    if (log != nullptr) log->write(channels_.pose, e.stamp_ns, hal::lcm::to_lcm(e));
+    if (status_period_ns_ > 0 && (!status_started_ || e.stamp_ns >= next_status_ns_)) {
+      publish_status(e);
+      status_started_ = true;
+      next_status_ns_ = (e.stamp_ns / status_period_ns_ + 1) * status_period_ns_;
+    }
+  }
+  void publish_status(const hal::Estimate& e) {
+    const est_lcm::status_t s = make_status_(e);
+    if (lcm != nullptr) lcm->publish_status(s);
+    if (log != nullptr) log->write(channels_.status, e.stamp_ns, s);
+  }
+  void final_status() {
+    if (count_ > 0) publish_status(last_);
+  }
+  std::uint64_t count() const { return count_; }
+
+ private:
+  hal::lcm::Channels channels_;
+  TimeNs status_period_ns_;
+  std::function<est_lcm::status_t(const hal::Estimate&)> make_status_;
+  bool status_started_ = false;
+  TimeNs next_status_ns_ = 0;
+  std::uint64_t count_ = 0;
+  hal::Estimate last_;
+};
+
+// Counts the checked inputs that reach the loop, by kind.
+struct CountHook {
+  std::uint64_t* counts;
+  template <typename Checked>
+  void operator()(const Checked&) {
+    ++counts[est::loop::index_of(hal::KindOfChecked<Checked>::value)];
+  }
+};
+// Stamps the replay's HAL clock with each raw sample's own stamp.
+struct StampHook {
+  StampClock* clock;
+  template <typename Raw>
+  void operator()(const Raw& s) {
+    clock->now = s.stamp_ns;
+  }
+};
+
+}  // namespace
+
+struct Node::Impl {
+  explicit Impl(const NodeConfig& config)
+      : c(config),
+        replay(config.replay()),
+        maps(load_maps(config)),
+        outputs(config, [this](const hal::Estimate& e) { return status_message(e); }) {
+    hal::Clock& step_clock = replay ? static_cast<hal::Clock&>(frozen) : static_cast<hal::Clock&>(monotonic);
+    hal::Clock& sample_clock = replay ? static_cast<hal::Clock&>(stamp_clock) : static_cast<hal::Clock&>(monotonic);
+    EstimatorSpec spec = c.spec;
+    spec.limits.wheels.counter_bits = static_cast<std::uint8_t>(
+        !c.can_interface.empty() || !c.replay_can_path.empty() ? hal::can::kCanWheelCounterBits
+                                                               : c.lcm_wheel_counter_bits);
+    pipeline = make_estimator_pipeline(spec, maps->view, sample_clock, step_clock, outputs);
+    counter = std::make_unique<hal::Forward<hal::ValidatedSensorPort, CountHook>>(pipeline->adapter(),
+                                                                                CountHook{to_loop});
+    if (!c.record_path.empty()) {
+      record_log = std::make_unique<LogWriter>(c.record_path);
+      recorder = std::make_unique<hal::Forward<hal::ValidatedSensorPort, InputRecorder>>(
+          pipeline->adapter(), InputRecorder(*record_log, c.channels));
+      counter->set_next(*recorder);
+    }
+    pipeline->set_tap(*counter);
+    if (!c.out_path.empty()) {
+      out_log = std::make_unique<LogWriter>(c.out_path);
+      outputs.log = out_log.get();
+    }
+    if (!c.out_can_path.empty()) {
+      candump = std::make_unique<CandumpWriter>(c.out_can_path, "can0");
+      candump_sink = std::make_unique<hal::can::CanEstimateSink>(*candump);
+      outputs.candump = candump.get();
+      outputs.candump_sink = candump_sink.get();
+    }
+  }
+
+  hal::lcm::InputConfig lcm_input_config(unsigned counter_bits) const {
+    hal::lcm::InputConfig ic;
+    ic.channels = c.channels;
+    ic.wheel_counter_bits = counter_bits;
+    ic.max_ranges = static_cast<std::size_t>(kMaxBeams);
+    return ic;
+  }
+
+  // Rejected by the transports (the pipeline adds the HAL's and its own).
+  std::uint32_t transport_rejects() const {
+    std::uint64_t n = 0;
+    if (can_input) n += can_input->rejects().total() + can_input->scans().rejects().total();
+    if (lcm_inputs) n += lcm_inputs->rejects().total();
+    return saturate(n);
+  }
+
+  void refresh(std::uint32_t transport_bits) {
+    if (lcm_inputs && lcm_inputs->rejects().total() != lcm_rejects_seen) {
+      lcm_rejects_seen = lcm_inputs->rejects().total();
+      transport_bits |= hal::status::kLcmDecodeError;
+    }
+    pipeline->refresh(transport_bits, transport_rejects());
+  }
+
+  est_lcm::status_t status_message(const hal::Estimate& e) const {
+    est_lcm::status_t s{};
+    s.stamp_ns = e.stamp_ns;
+    s.status_word = static_cast<std::int32_t>(e.status);
+    const est::loop::LoopCounters& lc = pipeline->loop_counters();
+    s.steps = std::int64_t{lc.predictions} + lc.corrections;
+    s.deadline_overruns = lc.overruns;
+    const hal::FaultCounters f = pipeline->gate().faults();
+    for (std::size_t i = 0; i < hal::kFaultCount; ++i) s.input_faults.push_back(f.count[i]);
+    if (can_input) {
+      for (std::uint32_t v : can_input->rejects().count) s.can_frame_rejects.push_back(v);
+      for (std::uint32_t v : can_input->scans().rejects().count) s.can_scan_rejects.push_back(v);
+    }
+    s.num_input_faults = static_cast<std::int16_t>(s.input_faults.size());
+    s.num_can_frame_rejects = static_cast<std::int16_t>(s.can_frame_rejects.size());
+    s.num_can_scan_rejects = static_cast<std::int16_t>(s.can_scan_rejects.size());
+    return s;
+  }
+
+  int run() {
+    const auto wall_start = std::chrono::steady_clock::now();
+    int rc = 0;
+    if (!c.replay_path.empty())
+      rc = run_replay_lcm();
+    else if (!c.replay_can_path.empty())
+      rc = run_replay_can();
+    else
+      rc = run_live();
+    pipeline->flush();
+    outputs.final_status();
+    wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    return rc;
+  }
+
+  int run_replay_lcm() {
+    ::lcm::LogFile in(c.replay_path, "r");
+    if (!in.good()) {
+      std::fprintf(stderr, "estimator_node: cannot read %s\n", c.replay_path.c_str());
+      return 1;
+    }
+    // memq: the backend's own decoding and checks, driven one message at a time.
+    lcm_in = std::make_unique<::lcm::LCM>("memq://");
+    stamper = std::make_unique<hal::Forward<hal::SensorPort, StampHook>>(pipeline->input(), StampHook{&stamp_clock});
+    lcm_inputs = std::make_unique<hal::lcm::LcmInputs>(*lcm_in, lcm_input_config(c.lcm_wheel_counter_bits), *stamper);
+    refresh(0);
+    while (g_stop_signal.load() == 0) {
+      const ::lcm::LogEvent* ev = in.readNextEvent();
+      if (ev == nullptr) break;
+      ++log_events;
+      if (!lcm_inputs->is_input_channel(ev->channel)) continue;
+      ++log_inputs;
+      lcm_in->publish(ev->channel, ev->data, static_cast<unsigned>(ev->datalen));
+      lcm_in->handle();
+      refresh(0);
+    }
+    return 0;
+  }
+
+  int run_replay_can() {
+    std::ifstream in(c.replay_can_path);
+    if (!in) {
+      std::fprintf(stderr, "estimator_node: cannot read %s\n", c.replay_can_path.c_str());
+      return 1;
+    }
+    scans = std::make_unique<hal::can::ScanReassembler<static_cast<std::size_t>(kMaxBeams)>>();
+    can_input = std::make_unique<hal::can::CanInput>(*scans, pipeline->input());
+    refresh(0);
+    std::string line;
+    std::uint64_t number = 0;
+    while (g_stop_signal.load() == 0 && std::getline(in, line)) {
+      ++number;
+      hal::can::CanFrame frame;
+      TimeNs stamp = 0;
+      const hal::can::CandumpStatus st = hal::can::parse_candump_line(line.data(), line.size(), frame, stamp);
+      if (st == hal::can::CandumpStatus::blank) continue;
+      ++log_events;
+      if (st != hal::can::CandumpStatus::ok) {
+        ++candump_rejects;
+        if (candump_rejects <= 5)
+          std::fprintf(stderr, "estimator_node: %s:%llu: %s, line skipped\n", c.replay_can_path.c_str(),
+                       static_cast<unsigned long long>(number), hal::can::to_string(st));
+        continue;
+      }
+      ++log_inputs;
+      stamp_clock.now = stamp;
+      can_input->on_frame(frame, stamp);
+      can_input->poll(stamp);
+      refresh(0);
+    }
+    return 0;
+  }
+
+  int run_live() {
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+
+    if (c.lcm_input) {
+      lcm_in = std::make_unique<::lcm::LCM>(c.lcm_url);
+      if (!lcm_in->good()) {
+        std::fprintf(stderr, "estimator_node: cannot open LCM %s\n", c.lcm_url.c_str());
+        return 1;
+      }
+      lcm_inputs = std::make_unique<hal::lcm::LcmInputs>(
+          *lcm_in,
+          lcm_input_config(c.can_interface.empty() ? c.lcm_wheel_counter_bits : hal::can::kCanWheelCounterBits),
+          pipeline->input());
+    }
+    ::lcm::LCM* out = lcm_in.get();
+    if (out == nullptr || c.lcm_out_url != c.lcm_url) {
+      lcm_out = std::make_unique<::lcm::LCM>(c.lcm_out_url);
+      if (!lcm_out->good()) {
+        std::fprintf(stderr, "estimator_node: cannot open LCM %s for the outputs\n", c.lcm_out_url.c_str());
+        return 1;
+      }
+      out = lcm_out.get();
+    }
+    lcm_outputs = std::make_unique<hal::lcm::LcmOutputs>(*out, c.channels);
+    outputs.lcm = lcm_outputs.get();
+
+    if (!c.can_interface.empty()) {
+      hal::socketcan::Config bc;
+      bc.interface = c.can_interface;
+      bc.receive_ids.assign(std::begin(hal::can::dbc::kInputIds), std::end(hal::can::dbc::kInputIds));
+      bus = std::make_unique<hal::socketcan::SocketCanBus>(bc);
+      if (!bus->open())
+        std::fprintf(stderr, "estimator_node: %s: %s (retrying)\n", c.can_interface.c_str(), bus->last_error().c_str());
+      scans = std::make_unique<hal::can::ScanReassembler<static_cast<std::size_t>(kMaxBeams)>>();
+      can_input = std::make_unique<hal::can::CanInput>(*scans, pipeline->input());
+      if (c.can_out) {
+        can_sink = std::make_unique<hal::can::CanEstimateSink>(*bus);
+        outputs.can = can_sink.get();
+      }
+    }
+
+    std::fprintf(stderr, "estimator_node: running (%s%s%s%s)\n", c.can_interface.empty() ? "" : "can ",
+                 c.can_interface.c_str(), c.lcm_input ? " lcm " : "", c.lcm_input ? c.lcm_url.c_str() : "");
+    const TimeNs end_ns = c.duration_s > 0.0 ? monotonic.now_ns() + static_cast<TimeNs>(c.duration_s * 1.0e9) : 0;
+    hal::socketcan::RxFrame frames[64];
+    while (g_stop_signal.load() == 0) {
+      pollfd fds[2];
+      nfds_t n = 0;
+      if (bus && bus->is_open()) fds[n++] = {bus->fd(), POLLIN, 0};
+      if (lcm_in) fds[n++] = {lcm_in->getFileno(), POLLIN, 0};
+      ::poll(fds, n, 10);
+      const TimeNs now = monotonic.now_ns();
+      if (end_ns != 0 && now >= end_ns) break;
+      if (bus) {
+        bus->service(now);
+        // Bounded: at most 16 reads of 64 frames per wake-up, so LCM and the stop signal are never starved.
+        for (int batch = 0; batch < 16; ++batch) {
+          const std::size_t got = bus->receive(frames, 64);
+          for (std::size_t i = 0; i < got; ++i) {
+            refresh(bus->take_status());
+            can_input->on_frame(frames[i].frame, frames[i].stamp_ns);
+          }
+          if (got < 64) break;
+        }
+        can_input->poll(now);
+      }
+      if (lcm_in) {
+        refresh(bus ? bus->take_status() : 0u);
+        for (int k = 0; k < 256 && lcm_in->handleTimeout(0) > 0; ++k) refresh(bus ? bus->take_status() : 0u);
+      }
+    }
+    stop_signal = g_stop_signal.load();
+    return 0;
+  }
+
+  void print_summary(std::FILE* f) const {
+    const est::loop::LoopCounters& lc = pipeline->loop_counters();
+    std::fprintf(f, "estimator_node summary (%s%s)\n", replay ? "replay" : "live",
+                 stop_signal == SIGINT ? ", stopped by SIGINT" : stop_signal == SIGTERM ? ", stopped by SIGTERM" : "");
+    std::fprintf(f, "  map: %s; estimator: %s\n", maps->view.description.c_str(), pipeline->description().c_str());
+    if (replay)
+      std::fprintf(f, "  log: events=%llu inputs=%llu wall_s=%.3f\n", static_cast<unsigned long long>(log_events),
+                   static_cast<unsigned long long>(log_inputs), wall_s);
+    else
+      std::fprintf(f, "  run: wall_s=%.3f\n", wall_s);
+    std::string kinds, stale;
+    for (const est::loop::InputKindInfo& k : est::loop::kInputKinds) {
+      kinds += std::string(" ") + k.name + "=" + std::to_string(to_loop[est::loop::index_of(k.kind)]);
+      if (pipeline->inputs().has(k.kind))
+        stale += std::string(" ") + k.name + "=" + std::to_string(lc.of(k.kind).stale);
+    }
+    std::fprintf(f, "  inputs:%s (validated, handed to the loop)\n", kinds.c_str());
+    std::fprintf(f,
+                 "  loop: inputs=%u too_old=%u queue_full=%u rejected=%u predictions=%u corrections=%u degenerate=%u "
+                 "overruns=%u worst_step_us=%.1f unused=%u\n",
+                 lc.inputs, lc.too_old, lc.queue_full, lc.rejected, lc.predictions, lc.corrections, lc.degenerate,
+                 lc.overruns, static_cast<double>(lc.worst_step_ns) / 1000.0, lc.unused);
+    std::fprintf(f, "  stale outputs (by input kind used):%s\n", stale.c_str());
+    std::fprintf(f, "  estimates: published=%llu nonfinite_held=%u\n", static_cast<unsigned long long>(outputs.count()),
+                 pipeline->nonfinite_estimates());
+    std::fprintf(f, "  rejects: total=%u\n", rejects_total());
+    pipeline->gate().for_each_sensor([&](const char* name, const hal::FaultCounters& fc) {
+      std::fprintf(f, "  rejects.%s:%s\n", name, reason_list<hal::Fault>(fc).c_str());
+    });
+    std::fprintf(f, "  rejects.loop_port:%s\n", reason_list<hal::LoopPortReject>(pipeline->port_rejects()).c_str());
+    if (lcm_inputs)
+      std::fprintf(f, "  rejects.lcm:%s accepted=%llu\n", reason_list<hal::lcm::LcmReject>(lcm_inputs->rejects()).c_str(),
+                   static_cast<unsigned long long>(lcm_inputs->accepted()));
+    if (can_input) {
+      std::fprintf(f, "  rejects.can_frame:%s accepted=%u\n",
+                   reason_list<hal::can::FrameReject>(can_input->rejects()).c_str(), can_input->frames_accepted());
+      std::fprintf(f, "  rejects.can_scan:%s completed=%u\n",
+                   reason_list<hal::can::ScanReject>(can_input->scans().rejects()).c_str(),
+                   can_input->scans().scans_completed());
+    }
+    if (!c.replay_can_path.empty())
+      std::fprintf(f, "  rejects.candump_lines: %llu\n", static_cast<unsigned long long>(candump_rejects));
+    if (bus) {
+      const hal::socketcan::Counters& b = bus->counters();
+      std::fprintf(f,
+                   "  can: rx_frames=%llu tx_frames=%llu tx_failed=%llu rx_dropped=%llu error_frames=%llu "
+                   "bus_off=%llu link_lost=%llu reconnects=%llu\n",
+                   static_cast<unsigned long long>(b.rx_frames), static_cast<unsigned long long>(b.tx_frames),
+                   static_cast<unsigned long long>(b.tx_failed), static_cast<unsigned long long>(b.rx_dropped),
+                   static_cast<unsigned long long>(b.error_frames), static_cast<unsigned long long>(b.bus_off_events),
+                   static_cast<unsigned long long>(b.link_lost), static_cast<unsigned long long>(b.reconnects));
+    }
+    if (lcm_outputs)
+      std::fprintf(f, "  lcm_out: publish_failures=%llu\n",
+                   static_cast<unsigned long long>(lcm_outputs->publish_failures()));
+    if (out_log)
+      std::fprintf(f, "  out_log: events=%llu failures=%llu\n", static_cast<unsigned long long>(out_log->events()),
+                   static_cast<unsigned long long>(out_log->failures()));
+    if (candump)
+      std::fprintf(f, "  out_can: frames=%llu\n", static_cast<unsigned long long>(candump->frames()));
+    if (record_log)
+      std::fprintf(f, "  record_log: events=%llu failures=%llu\n", static_cast<unsigned long long>(record_log->events()),
+                   static_cast<unsigned long long>(record_log->failures()));
+  }
+
+  std::uint32_t rejects_total() const {
+    return saturate(std::uint64_t{transport_rejects()} + pipeline->gate().faults().total() +
+                    pipeline->port_rejects().total() + candump_rejects);
+  }
+
+  NodeConfig c;
+  bool replay;
+  MonotonicClock monotonic;
+  StampClock stamp_clock;
+  FrozenClock frozen;
+  std::unique_ptr<LoadedMaps> maps;
+  NodeOutputs outputs;
+  std::unique_ptr<EstimatorPipeline> pipeline;
+  std::uint64_t to_loop[est::loop::kInputKindCount] = {};
+  std::unique_ptr<hal::Forward<hal::ValidatedSensorPort, CountHook>> counter;
+  std::unique_ptr<LogWriter> record_log, out_log;
+  std::unique_ptr<hal::Forward<hal::ValidatedSensorPort, InputRecorder>> recorder;
+  std::unique_ptr<CandumpWriter> candump;
+  std::unique_ptr<hal::can::CanEstimateSink> candump_sink;
+  std::unique_ptr<hal::Forward<hal::SensorPort, StampHook>> stamper;
+  // The LCM instances outlive the backend objects that subscribe on them (members are destroyed in reverse).
+  std::unique_ptr<::lcm::LCM> lcm_in, lcm_out;
+  std::unique_ptr<hal::lcm::LcmInputs> lcm_inputs;
+  std::unique_ptr<hal::lcm::LcmOutputs> lcm_outputs;
+  std::unique_ptr<hal::socketcan::SocketCanBus> bus;
+  std::unique_ptr<hal::can::ScanReassembler<static_cast<std::size_t>(kMaxBeams)>> scans;
+  std::unique_ptr<hal::can::CanInput> can_input;
+  std::unique_ptr<hal::can::CanEstimateSink> can_sink;
+  std::uint32_t lcm_rejects_seen = 0;
+  std::uint64_t log_events = 0, log_inputs = 0, candump_rejects = 0;
+  double wall_s = 0.0;
+  int stop_signal = 0;
+};
+
+Node::Node(const NodeConfig& config) : impl_(std::make_unique<Impl>(config)) {}
+Node::~Node() = default;
+int Node::run() { return impl_->run(); }
+void Node::print_summary(std::FILE* f) const { impl_->print_summary(f); }
+const EstimatorPipeline& Node::pipeline() const { return *impl_->pipeline; }
+std::uint64_t Node::inputs_to_loop(est::loop::InputKind k) const { return impl_->to_loop[est::loop::index_of(k)]; }
+std::uint64_t Node::estimates() const { return impl_->outputs.count(); }
+std::uint32_t Node::rejects_total() const { return impl_->rejects_total(); }
+std::uint64_t Node::log_events() const { return impl_->log_events; }
+std::uint64_t Node::log_inputs() const { return impl_->log_inputs; }
+
+}  // namespace node

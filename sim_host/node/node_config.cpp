@@ -1,0 +1,324 @@
+// estimator_node's options (node/node_config.hpp).
+#include "node/node_config.hpp"
+
+#include "node/estimator_pipeline.hpp"
+
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace node {
+
+using hal::TimeNs;
+
+namespace {
+
+std::string trimmed(double v) {
+  std::string s = std::to_string(v);
+  while (!s.empty() && s.back() == '0') s.pop_back();
+  if (!s.empty() && s.back() == '.') s.pop_back();
+  return s;
+}
+
+// Durations are given in milliseconds on the command line and kept in nanoseconds.
+void add_ms(CLI::App& app, const std::string& name, TimeNs& target, const std::string& help, const char* group) {
+  app.add_option_function<double>(
+         name, [&target](double ms) { target = static_cast<TimeNs>(std::llround(ms * 1.0e6)); }, help + " (ms)")
+      ->default_str(trimmed(static_cast<double>(target) / 1.0e6))
+      ->check(CLI::NonNegativeNumber)
+      ->group(group);
+}
+
+// "x,y,theta" as a pose.
+void add_pose(CLI::App& app, const std::string& name, est::Pose2& target, bool* given, const std::string& help,
+              const char* group) {
+  app.add_option_function<std::vector<float>>(
+         name,
+         [&target, given](const std::vector<float>& v) {
+           target = {v[0], v[1], v[2]};
+           if (given != nullptr) *given = true;
+         },
+         help)
+      ->delimiter(',')
+      ->expected(3)
+      ->group(group);
+}
+
+// A comma-separated list of exactly n floats into out[0..n).
+void add_floats(CLI::App& app, const std::string& name, float* out, std::size_t n, const std::string& help,
+                const char* group) {
+  std::string def;
+  for (std::size_t i = 0; i < n; ++i) def += (i ? "," : "") + trimmed(static_cast<double>(out[i]));
+  app.add_option_function<std::vector<float>>(
+         name, [out, n](const std::vector<float>& v) { for (std::size_t i = 0; i < n; ++i) out[i] = v[i]; }, help)
+      ->delimiter(',')->expected(static_cast<int>(n))->default_str(def)->group(group);
+}
+
+template <typename Enum>
+void add_choice(CLI::App& app, const std::string& name, Enum& target, std::vector<std::string> names,
+                const std::string& help, const char* group) {
+  const std::string def = to_string(target);
+  app.add_option_function<std::string>(
+         name, [&target](const std::string& v) { parse(v, target); }, help)
+      ->check(CLI::IsMember(names))->default_str(def)->group(group);
+}
+
+}  // namespace
+
+void add_options(CLI::App& app, NodeConfig& c) {
+  app.get_formatter()->column_width(34);
+  EstimatorSpec& e = c.spec;
+  MotionSpec& m = e.motion;
+
+  const char* io = "Inputs and outputs";
+  app.add_option("--can", c.can_interface,
+                 "SocketCAN interface to read sensor frames from (hal/can/estimator.dbc: WHEEL_TICKS, "
+                 "WHEEL_TICKS_EXT, STEERING, TWIST, ODOMETRY, SCAN_*); inputs are stamped with the kernel's receive "
+                 "time")
+      ->group(io);
+  app.add_option("--lcm", c.lcm_url,
+                 "LCM URL to read sensor messages from (est_lcm encoder_ticks_t, steering_t, twist_t, odometry_t, "
+                 "range_scan_t, landmark_sighting_t; stamped by the sender, same monotonic clock as this host) and "
+                 "to publish on")
+      ->group(io);
+  app.add_option("--lcm-out", c.lcm_out_url,
+                 "LCM URL for the outputs (pose_estimate_t, status_t); default: --lcm's URL, else LCM's default "
+                 "(udpm://239.255.76.67:7667?ttl=0 or $LCM_DEFAULT_URL)")
+      ->group(io);
+  app.add_flag("--can-out", c.can_out,
+               "also send each estimate on the --can interface (POSE_ESTIMATE, POSE_SIGMA, POSE_CORRELATION, "
+               "ESTIMATOR_STATUS)")
+      ->group(io);
+  app.add_option("--replay", c.replay_path,
+                 "lockstep replay: run this LCM log (lcm-logger format) through the loop as fast as possible and "
+                 "exit; each input is stamped with its message's stamp_ns (the log's receive times are ignored), so "
+                 "the same log gives the same --out log, bit for bit")
+      ->group(io)->check(CLI::ExistingFile);
+  app.add_option("--replay-can", c.replay_can_path,
+                 "lockstep replay of a candump log (candump -l format) of estimator.dbc frames, each stamped with "
+                 "its line's receive time, as the board image replays it")
+      ->group(io)->check(CLI::ExistingFile);
+  app.add_option("--out", c.out_path,
+                 "write the estimates (and status) to this LCM log; event times are the estimates' stamps")
+      ->group(io);
+  app.add_option("--out-can", c.out_can_path,
+                 "write the estimate frames (POSE_ESTIMATE, POSE_SIGMA, POSE_CORRELATION, ESTIMATOR_STATUS) to this "
+                 "candump log, stamped with the estimates' stamps")
+      ->group(io);
+  app.add_option("--record-inputs", c.record_path,
+                 "write every input handed to the filter loop, in that order and with the stamp the loop used, to "
+                 "this LCM log (replayable with --replay --wheel-counter-bits 32)")
+      ->group(io);
+  app.add_option("--ch-wheel-ticks", c.channels.wheel_ticks, "LCM channel: encoder ticks in")->capture_default_str()->group(io);
+  app.add_option("--ch-steering", c.channels.steering, "LCM channel: steering in")->capture_default_str()->group(io);
+  app.add_option("--ch-twist", c.channels.twist, "LCM channel: twists in (twist_t)")->capture_default_str()->group(io);
+  app.add_option("--ch-odometry", c.channels.odometry, "LCM channel: odometry poses in (odometry_t)")->capture_default_str()->group(io);
+  app.add_option("--ch-scan", c.channels.range_scan, "LCM channel: range scans in")->capture_default_str()->group(io);
+  app.add_option("--ch-landmarks", c.channels.landmarks, "LCM channel: landmark sightings in (landmark_sighting_t)")->capture_default_str()->group(io);
+  app.add_option("--ch-pose", c.channels.pose, "LCM channel: pose estimates out")->capture_default_str()->group(io);
+  app.add_option("--ch-status", c.channels.status, "LCM channel: status out")->capture_default_str()->group(io);
+  app.add_option("--status-hz", c.status_hz, "status_t rate, in input time (0: only at the end)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber)->group(io);
+  app.add_option("--duration", c.duration_s, "live: stop after this many seconds (0: run until SIGINT/SIGTERM)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber)->group(io);
+  app.add_flag("--quiet", c.quiet, "no summary on stderr at the end")->group(io);
+
+  const char* robot = "Robot: the motion model and its inputs";
+  add_choice(app, "--model", e.model, {"velocity", "odometry", "bicycle", "diff-drive", "omni", "holonomic"},
+             "motion model: velocity (twist v, w), odometry (odometry poses, Thrun table 5.6), bicycle (wheel 0 "
+             "the front wheel's traction encoder, plus steering), diff-drive (wheels 0 and 1 left and right), omni "
+             "(twist v1, v2, w, or 3-4 wheel encoders: --omni-wheels), holonomic (twist u_x, u_y; never turns)",
+             robot);
+  app.add_option("--wheel-radius", m.diff_drive.wheel_radius, "diff-drive: wheel radius (m)")->capture_default_str()->group(robot);
+  app.add_option("--track-width", m.diff_drive.track_width, "diff-drive: distance between the wheels (m)")->capture_default_str()->group(robot);
+  app.add_option("--ticks-per-rev", m.diff_drive.ticks_per_rev, "diff-drive: encoder ticks per wheel revolution")->capture_default_str()->group(robot);
+  app.add_option("--travel-sigma-per-m", m.diff_drive.travel_sigma_per_m, "diff-drive: wheel travel noise per metre travelled")->capture_default_str()->group(robot);
+  app.add_option("--travel-sigma-floor", m.diff_drive.travel_sigma_floor, "diff-drive: wheel travel noise floor (m)")->capture_default_str()->group(robot);
+  app.add_option("--rot-sigma", m.diff_drive.final_rot_sigma, "diff-drive: final rotation noise (rad)")->capture_default_str()->group(robot);
+  app.add_option("--frame-length", m.bicycle.frame_length, "bicycle: rear to front wheel (m)")->capture_default_str()->group(robot);
+  app.add_option("--steer-max", m.bicycle.steer_max, "bicycle: steering stop (rad)")->capture_default_str()->group(robot);
+  app.add_option("--steer-sigma", m.bicycle.steer_sigma, "bicycle: steering noise (rad)")->capture_default_str()->group(robot);
+  app.add_option("--speed-var-per-speed", m.bicycle.speed_var_per_speed, "bicycle: speed variance per speed (m/s)")->capture_default_str()->group(robot);
+  app.add_option("--bicycle-rot-sigma", m.bicycle.final_rot_sigma, "bicycle: final rotation noise (rad)")->capture_default_str()->group(robot);
+  app.add_option("--metres-per-tick", m.bicycle_control.metres_per_tick, "bicycle: front wheel travel per encoder tick (m)")->capture_default_str()->group(robot);
+  app.add_flag("!--no-steering-sensor", m.bicycle_control.steering_fitted,
+               "bicycle: no steering sensor is fitted (steering inputs are unused; the prediction takes the "
+               "steering as unknown, --unknown-steer-sigma)")->group(robot);
+  app.add_option("--unknown-steer-sigma", m.bicycle_control.unknown_steer_sigma,
+                 "bicycle: steering noise while the steering is unknown (rad; 0: --steer-sigma)")->capture_default_str()->group(robot);
+  add_floats(app, "--velocity-noise", &m.velocity.a1, 6,
+             "velocity: a1..a6 of Thrun table 5.3 (variances: v a1 v^2 + a2 w^2, w a3 v^2 + a4 w^2, final turn a5 v^2 "
+             "+ a6 w^2) per prediction", robot);
+  add_floats(app, "--odometry-noise", &m.odometry.a1, 4,
+             "odometry: a1..a4 of Thrun table 5.6 (variances of rot1/rot2, trans) per prediction", robot);
+  add_floats(app, "--omni-noise", m.omni.alpha, 9,
+             "omni: a1..a9 (std of v1 = a1|v1| + a2|v2| + a3|w|, v2: a4..a6, w: a7..a9) per prediction", robot);
+  app.add_option_function<std::string>(
+         "--omni-wheels",
+         [&m](const std::string& kind) {
+           using Source = est::loop::ControlAssembler<est::OmniMotionModel>::Source;
+           m.omni_control.source = kind == "twist" ? Source::twist : Source::wheels;
+           float rows[4][3] = {};
+           const float r = m.omni_control.wheels.metres_per_tick;  // keep the configured resolution
+           const float mpt = r > 0.0f ? r : 0.0005f;
+           if (kind == "mecanum") {
+             est::mecanum_wheel_rows(0.2f, 0.2f, rows);
+             est::configure_omni_wheels(m.omni_control.wheels, rows, 4, mpt);
+           } else if (kind == "kiwi3" || kind == "kiwi4") {
+             const int n = kind == "kiwi3" ? 3 : 4;
+             float beta[4];
+             for (int i = 0; i < n; ++i) beta[i] = 6.2831853f * static_cast<float>(i) / static_cast<float>(n);
+             est::omni_wheel_rows(beta, n, 0.2f, rows);
+             est::configure_omni_wheels(m.omni_control.wheels, rows, n, mpt);
+           }
+         },
+         "omni: the control's source: twist (TWIST / twist_t), or the encoders of a base: mecanum (4 wheels, X, "
+         "0.2 m half wheelbase and half track), kiwi3 or kiwi4 (omni wheels on a 0.2 m circle); 0.5 mm per tick")
+      ->check(CLI::IsMember({"twist", "mecanum", "kiwi3", "kiwi4"}))->default_str("twist")->group(robot);
+  app.add_option_function<float>(
+         "--holonomic-noise", [&m](float q) { m.holonomic_control.noise_per_s = Eigen::Matrix2f::Identity() * q; },
+         "holonomic: displacement noise per axis and second (m^2/s)")
+      ->default_str("0")->check(CLI::NonNegativeNumber)->group(robot);
+  app.add_option("--holonomic-heading-sigma", m.holonomic_control.heading_sigma_per_sqrt_s,
+                 "holonomic: heading drift (rad per sqrt(s); 0: a constant heading)")->capture_default_str()->group(robot);
+
+  const char* sensor = "Rangefinder (MCL)";
+  add_choice(app, "--sensor-model", e.range_model, {"likelihood-field", "beam", "steered"},
+             "likelihood-field (Thrun table 6.3); beam (table 6.1, z* from a heading range table, --heading-bins); "
+             "steered (a rangefinder on the bicycle's handlebar: the likelihood field marginalized over "
+             "--handle-positions handle positions, --handlebar)", sensor);
+  add_pose(app, "--sensor-mount", e.sensor_mount, nullptr, "rangefinder pose on the robot: x,y,theta (m, m, rad); default 0,0,0", sensor);
+  app.add_option("--z-hit", e.field.z_hit, "likelihood field: weight of the hit term")->capture_default_str()->group(sensor);
+  app.add_option("--z-max", e.field.z_max, "likelihood field: weight of max-range readings")->capture_default_str()->group(sensor);
+  app.add_option("--z-rand", e.field.z_rand, "likelihood field: weight of random readings")->capture_default_str()->group(sensor);
+  app.add_option("--sigma-hit", e.field.sigma_hit, "likelihood field: hit spread (m)")->capture_default_str()->group(sensor);
+  app.add_option_function<float>(
+         "--range-max", [&e](float r) { e.field.range_max = r; e.beam.range_max = r; },
+         "the sensor's maximum range (m)")->default_str(trimmed(static_cast<double>(e.field.range_max)))->group(sensor);
+  app.add_option("--max-distance", e.field.max_distance, "likelihood field: distances capped here (m)")->capture_default_str()->group(sensor);
+  add_floats(app, "--beam-weights", &e.beam.z_hit, 4, "beam model: z_hit,z_short,z_max,z_rand (sum 1)", sensor);
+  app.add_option("--beam-sigma-hit", e.beam.sigma_hit, "beam model: hit spread (m)")->capture_default_str()->group(sensor);
+  app.add_option("--beam-lambda-short", e.beam.lambda_short, "beam model: rate of short readings (1/m)")->capture_default_str()->group(sensor);
+  app.add_option("--heading-bins", e.heading_bins, "beam model: headings of the range table (a power of two)")->capture_default_str()->group(sensor);
+  add_floats(app, "--handlebar", &e.steered.mount.pivot_x, 2,
+             "steered: the steering axis in the robot frame pivot_x,pivot_y (m)", sensor);
+  add_pose(app, "--handlebar-sensor", e.steered.mount.sensor_on_part, nullptr,
+           "steered: the sensor's pose on the handlebar x,y,theta (m, m, rad)", sensor);
+  app.add_option("--handle-positions", e.steered.positions, "steered: handle positions M across the stops")
+      ->capture_default_str()->check(CLI::Range(1, 16))->group(sensor);
+  app.add_option("--handle-reading-sigma", e.steered.reading_sigma,
+                 "steered: how far to trust the steering reading for p(alpha_m | x) (rad)")->capture_default_str()->group(sensor);
+
+  const char* map = "Map and initial belief";
+  app.add_option("--map", c.map,
+                 "'office' (the simulator's synthetic office, 20 m x 15 m) or a ROS map_server YAML file (PGM image, "
+                 "trinary/scale/raw, at most 2048 x 2048 cells)")
+      ->capture_default_str()->group(map);
+  app.add_option("--clearance", e.clearance_m, "free-space draws keep this far from obstacles (m)")->capture_default_str()->group(map);
+  add_pose(app, "--initial-pose", e.initial_pose, nullptr, "tracking: initial pose x,y,theta (m, m, rad)", map);
+  app.add_option_function<std::vector<float>>(
+         "--initial-sigma",
+         [&e](const std::vector<float>& v) {
+           e.initial_sigma_xy_m = v[0];
+           e.initial_sigma_theta_rad = v[1];
+         },
+         "tracking: initial spread sigma_xy,sigma_theta (m, rad)")
+      ->delimiter(',')->expected(2)->default_str("0.2,0.1")->group(map);
+  app.add_flag("--global", e.global, "global localization: particles uniform over the free space")->group(map);
+
+  const char* ekf = "Filter: EKF localization on landmark sightings (--filter ekf)";
+  add_choice(app, "--filter", e.filter, {"mcl", "ekf"},
+             "mcl: augmented Monte Carlo localization on range scans and the occupancy map (tracking or global); "
+             "ekf: EKF localization on landmark sightings (range, bearing, signature; known or unknown "
+             "correspondence) and a landmark map (tracking from --initial-pose; scans are counted as unused)",
+             ekf);
+  app.add_option("--landmarks", c.landmarks,
+                 "landmark map: 'office' (the simulator's office, 16 posts, signatures 1..16) or a CSV file of "
+                 "x,y,signature lines (m; '#' comments); a sighting's id is the line index from 0")
+      ->capture_default_str()->group(ekf);
+  app.add_option("--landmark-sigma-range", e.landmark_noise.sigma_range, "landmark sensor: range noise (m)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
+  app.add_option("--landmark-sigma-bearing", e.landmark_noise.sigma_bearing, "landmark sensor: bearing noise (rad)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
+  app.add_option("--landmark-sigma-signature", e.landmark_noise.sigma_signature,
+                 "landmark sensor: signature noise; > 0 makes signatures part of the association (0: not used)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
+  app.add_option("--landmark-max-range", e.limits.landmarks.max_range_m, "landmark features beyond this are rejected (m)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
+  app.add_option("--ekf-rot-sigma", e.ekf_rot_sigma, "heading noise added to every EKF prediction (rad)")->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
+  app.add_option("--lost-sigma", e.lost_sigma_m, "EKF: position sigma above which the estimate is flagged degenerate (m)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
+
+  const char* filter = "Filter: augmented MCL (--filter mcl)";
+  app.add_option("--particles", e.particles, "particle count (at most 20000)")
+      ->capture_default_str()->check(CLI::Range(1u, kMaxParticles))->group(filter);
+  app.add_option("--seed", e.seed, "random seed (the run is a function of the seed and the inputs)")->capture_default_str()->group(filter);
+  app.add_option("--beam-stride", e.beam_stride, "use every n-th beam of a scan")
+      ->capture_default_str()->check(CLI::Range(1, 1000))->group(filter);
+  app.add_option("--alpha-slow", e.mcl.alpha_slow, "augmented MCL: slow average rate")->capture_default_str()->group(filter);
+  app.add_option("--alpha-fast", e.mcl.alpha_fast, "augmented MCL: fast average rate")->capture_default_str()->group(filter);
+  app.add_option("--max-injection", e.mcl.max_injection_fraction, "augmented MCL: at most this share injected")->capture_default_str()->group(filter);
+  app.add_flag("--kld", e.mcl.kld, "adapt the particle count by KLD sampling (up to --particles' capacity)")->group(filter);
+  app.add_option("--kld-min", e.mcl.kld_config.n_min, "KLD sampling: the fewest particles")->capture_default_str()->group(filter);
+  app.add_option("--cluster-cell", e.cluster_cell_m, "grid of the strongest-cluster estimate (m)")->capture_default_str()->group(filter);
+  app.add_flag("!--no-recovery", e.mcl.recovery, "no random particles (plain MCL)")->group(filter);
+
+  const char* loop = "Loop rates and input limits";
+  app.add_option_function<double>(
+         "--predict-hz",
+         [&e](double hz) { e.timing.predict_period_ns = static_cast<TimeNs>(std::llround(1.0e9 / hz)); },
+         "prediction rate, in input time")
+      ->default_str("100")->check(CLI::Range(1.0, 10000.0))->group(loop);
+  add_ms(app, "--reorder-window", e.timing.reorder_window_ns, "inputs this late are still applied in stamp order", loop);
+  using est::loop::InputKind;
+  add_ms(app, "--encoder-timeout", e.timing.staleness[InputKind::wheel_ticks], "encoders stale after", loop);
+  add_ms(app, "--steering-timeout", e.timing.staleness[InputKind::steering], "steering stale after", loop);
+  add_ms(app, "--twist-timeout", e.timing.staleness[InputKind::twist], "twists stale after", loop);
+  add_ms(app, "--odometry-timeout", e.timing.staleness[InputKind::odometry], "odometry stale after", loop);
+  add_ms(app, "--scan-timeout", e.timing.staleness[InputKind::scan], "scans stale after", loop);
+  add_ms(app, "--landmark-timeout", e.timing.staleness[InputKind::landmark], "landmark sightings stale after (EKF)", loop);
+  add_ms(app, "--step-deadline", e.timing.step_deadline_ns, "budget of one predict or correct step (live; replay does not time)", loop);
+  add_ms(app, "--max-age", e.limits.wheels.timing.max_age_ns, "live: inputs older than this on arrival are stale", loop);
+  add_ms(app, "--max-future", e.limits.wheels.timing.max_future_ns, "live: inputs stamped further ahead of the clock are rejected", loop);
+  app.add_option("--max-steer", e.limits.steering.max_angle_rad, "steering samples beyond this are rejected (rad)")->capture_default_str()->group(loop);
+  app.add_option("--wheel-count", e.limits.wheels.wheel_count, "encoders per sample (2 for a diff drive or a bicycle, 3-4 for an omni base)")->capture_default_str()->group(loop);
+  app.add_option("--max-ticks-per-s", e.limits.wheels.max_ticks_per_s, "encoder rate limit (ticks/s)")->capture_default_str()->group(loop);
+  app.add_option("--max-speed", e.limits.twist.max_speed_mps, "twists and odometry faster than this are rejected (m/s)")->capture_default_str()->group(loop);
+  app.add_option("--max-turn-rate", e.limits.twist.max_turn_rate_rps, "twists and odometry turning faster are rejected (rad/s)")->capture_default_str()->group(loop);
+  app.add_option("--min-valid-beams", e.limits.scan.min_valid_beams, "scans with fewer usable beams are rejected")->capture_default_str()->group(loop);
+  app.add_option("--wheel-counter-bits", c.lcm_wheel_counter_bits,
+                 "width of the encoder counters in LCM messages (CAN frames carry 16)")
+      ->capture_default_str()->check(CLI::Range(1u, 32u))->group(loop);
+}
+
+void finish_options(const CLI::App& app, NodeConfig& c) {
+  EstimatorSpec& e = c.spec;
+  e.limits.set_timing(e.limits.wheels.timing);
+  e.limits.odometry.max_speed_mps = e.limits.twist.max_speed_mps;
+  e.limits.odometry.max_turn_rate_rps = e.limits.twist.max_turn_rate_rps;
+  e.limits.landmarks.max_id = kMaxLandmarks - 1;
+  e.limits.scan.max_beams = static_cast<std::size_t>(kMaxBeams);
+  e.steered.steer_max = e.motion.bicycle.steer_max;
+  e.beam.range_max = e.field.range_max;
+  c.lcm_input = app.count("--lcm") > 0;
+  const bool pose_given = app.count("--initial-pose") > 0;
+  const bool replay_lcm = !c.replay_path.empty(), replay_can = !c.replay_can_path.empty();
+  if (!c.replay() && c.can_interface.empty() && !c.lcm_input)
+    throw CLI::ValidationError("inputs", "give --can IFACE, --lcm URL, --replay LOG or --replay-can CANDUMP");
+  if (replay_lcm && replay_can) throw CLI::ValidationError("--replay", "one replay at a time: --replay or --replay-can");
+  if (c.replay() && (!c.can_interface.empty() || c.lcm_input))
+    throw CLI::ValidationError("--replay", "replays alone: no --can or --lcm with it");
+  if (c.replay() && c.out_path.empty() && c.out_can_path.empty())
+    throw CLI::ValidationError("--replay", "needs --out OUT.lcmlog or --out-can OUT.candump");
+  if (c.can_out && c.can_interface.empty()) throw CLI::ValidationError("--can-out", "needs --can IFACE");
+  if (e.global == pose_given)
+    throw CLI::ValidationError("initial belief", "give exactly one of --initial-pose x,y,theta and --global");
+  if (e.filter == est::loop::Filter::ekf && e.global)
+    throw CLI::ValidationError("--global", "global localization needs --filter mcl (the EKF tracks from --initial-pose)");
+  if (e.range_model == RangeModel::steered && e.model != RobotModel::bicycle)
+    throw CLI::ValidationError("--sensor-model", "steered: the handlebar is the bicycle's (--model bicycle)");
+  if (e.model == RobotModel::omni &&
+      e.motion.omni_control.source == est::loop::ControlAssembler<est::OmniMotionModel>::Source::wheels &&
+      app.count("--wheel-count") == 0)
+    e.limits.wheels.wheel_count = e.motion.omni_control.wheels.count;
+  if (c.lcm_out_url.empty()) c.lcm_out_url = c.lcm_url;
+}
+
+}  // namespace node

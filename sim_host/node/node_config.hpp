@@ -1,0 +1,47 @@
+#pragma once
+// estimator_node's configuration: the transports, the maps, and the estimator (node/estimator_spec.hpp), every
+// option of the command line with its default, in one struct (host only).
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <string>
+
+#include "hal/lcm/channels.hpp"
+#include "node/estimator_spec.hpp"
+
+namespace node {
+
+inline constexpr std::int32_t kMapMaxSide = 2048;    // cells per side of a map file
+inline constexpr std::int32_t kMaxLandmarks = 1024;  // landmarks in a landmark map file
+
+struct NodeConfig {
+  // Inputs and outputs.
+  std::string can_interface;    // --can
+  std::string lcm_url;          // --lcm: inputs (and outputs unless --lcm-out)
+  bool lcm_input = false;
+  std::string lcm_out_url;      // --lcm-out: outputs; default --lcm's URL, else LCM's default (udpm)
+  bool can_out = false;
+  std::string replay_path;      // --replay: an LCM log
+  std::string replay_can_path;  // --replay-can: a candump log of estimator.dbc frames
+  std::string out_path;         // --out: estimates to an LCM log
+  std::string out_can_path;     // --out-can: estimate frames to a candump log
+  std::string record_path;      // --record-inputs
+  hal::lcm::Channels channels;
+  double status_hz = 1.0;
+  double duration_s = 0.0;  // live: stop after this long (0: until SIGINT/SIGTERM)
+  bool quiet = false;
+  unsigned lcm_wheel_counter_bits = 32;
+
+  // Maps: 'office' (the simulator's synthetic office) or files.
+  std::string map = "office";
+  std::string landmarks = "office";
+
+  EstimatorSpec spec;
+
+  bool replay() const { return !replay_path.empty() || !replay_can_path.empty(); }
+};
+
+// Registers every option on `app` (defaults shown in --help), and checks them after parsing (throws CLI::ValidationError).
+void add_options(CLI::App& app, NodeConfig& c);
+void finish_options(const CLI::App& app, NodeConfig& c);
+
+}  // namespace node

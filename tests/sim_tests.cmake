@@ -1,0 +1,11 @@
+# The simulator's tests: sim_host's subcommands in process (sim_simulate) and as the executable.
+est_add_test(sim_host_sample_motion LIBS sim_tools)
+target_compile_definitions(test_sim_host_sample_motion PRIVATE SIM_HOST_EXE="$<TARGET_FILE:sim_host>")
+add_dependencies(test_sim_host_sample_motion sim_host)
+est_add_test(sim_host_simulate LIBS sim_simulate)
+est_add_test(sim_host_simulate_ekf LIBS sim_simulate)
+target_compile_definitions(test_sim_host_simulate_ekf PRIVATE SIM_HOST_EXE="$<TARGET_FILE:sim_host>")
+add_dependencies(test_sim_host_simulate_ekf sim_host)
+est_add_test(sim_host_learn_beam_model LIBS sim_simulate)
+target_compile_definitions(test_sim_host_simulate PRIVATE SIM_HOST_EXE="$<TARGET_FILE:sim_host>")
+add_dependencies(test_sim_host_simulate sim_host)
