@@ -47,7 +47,7 @@ sim::ScenarioConfig ekf_scenario(sim::RobotKind robot, std::uint64_t seed, bool 
   c.burst_ms = 300.0;
   c.landmark_ids_known = ids_known;
   for (const sim::FaultClassInfo& f : sim::fault_catalogue())
-    if (robot == sim::RobotKind::bicycle || f.key.rfind("steering.", 0) != 0) c.faults[f.key] = 1;
+    if (sim::fault_applies(robot, f.key)) c.faults[f.key] = 1;
   return c;
 }
 
@@ -159,7 +159,7 @@ TEST_CASE("every injected landmark fault is counted once with its reason, under 
     CHECK(late_features >= 2);
     CHECK(expected.at("loop.too_old") == late_features);
     CHECK(observed == expected);
-    CHECK(r.landmark_faults.total() == 5u);
+    CHECK(r.sensor_faults.at("landmarks").total() == 5u);
 
     // MCL drops the sightings when they are pushed (unused), before the loop's ordering: the late sighting moves no
     // counter there, the late scan does, and the HAL counts the same landmark faults.
@@ -171,7 +171,7 @@ TEST_CASE("every injected landmark fault is counted once with its reason, under 
     const sim::SimResult m = sim::run_simulation(sc, mcl, world);
     CHECK(m.stream.expected_counts().at("loop.too_old") == 1);
     CHECK(m.observed_counts() == m.stream.expected_counts());
-    CHECK(m.landmark_faults.total() == 5u);
+    CHECK(m.sensor_faults.at("landmarks").total() == 5u);
   }
 }
 
@@ -219,8 +219,8 @@ TEST_CASE("the landmark stream and its faults leave MCL's estimates unchanged", 
     same = same && a.rows[i].t_ns == b.rows[i].t_ns && a.rows[i].estimate.x == b.rows[i].estimate.x &&
            a.rows[i].estimate.y == b.rows[i].estimate.y && a.rows[i].estimate.theta == b.rows[i].estimate.theta;
   CHECK(same);
-  CHECK(a.landmark_faults.total() == 5u);
-  CHECK(b.landmark_faults.total() == 0u);
+  CHECK(a.sensor_faults.at("landmarks").total() == 5u);
+  CHECK(b.sensor_faults.at("landmarks").total() == 0u);
   CHECK(a.stream.truth.back().pose.x == b.stream.truth.back().pose.x);
 }
 

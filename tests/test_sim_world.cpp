@@ -85,3 +85,41 @@ TEST_CASE("a kidnapped robot continues its route from where it was put", "[sim_w
   bike.step(rng);
   CHECK(std::hypot(bike.pose().x - there.x, bike.pose().y - there.y) < 0.1f);  // one 0.1 s step at <= 0.8 m/s
 }
+
+TEST_CASE("the omnidirectional and holonomic robots drive the route with sideways motion", "[sim_world]") {
+  // Over a lap's first 40 s: the omni base's body velocity has a leftward part (v2) as large as half its forward
+  // part at times, while its heading swings on its own; the holonomic robot never turns and still follows the
+  // route (which turns through 90 deg corners), so most of its travel is sideways at some point. Both stay in the
+  // free space.
+  const auto& w = est::sim::office_world();
+  est::sim::RobotTruth truth;
+  float rows[4][3] = {};
+  est::mecanum_wheel_rows(0.2f, 0.2f, rows);
+  REQUIRE(est::configure_omni_wheels(truth.omni_wheels, rows, 4, 0.0005f));
+  truth.omni.dt = 0.01f;
+  for (const est::sim::RobotKind kind : {est::sim::RobotKind::omni, est::sim::RobotKind::holonomic}) {
+    const est::Pose2 start = w.route.pose_on_segment(0, 0.0f);
+    const auto robot = est::sim::make_robot(kind, w.route, start, 1, truth, 0.8f, 0.01f, 0.0005);
+    est::Rng rng(3u);
+    float max_sideways = 0.0f, max_turn = 0.0f, path = 0.0f;
+    for (int k = 0; k < 4000; ++k) {
+      const est::Pose2 before = robot->pose();
+      const est::sim::RobotStep s = robot->step(rng);
+      const est::Pose2 after = robot->pose();
+      path += std::hypot(after.x - before.x, after.y - before.y);
+      max_sideways = std::max(max_sideways, std::fabs(s.v2_mps));
+      max_turn = std::max(max_turn, std::fabs(std::remainder(after.theta - start.theta, 6.2831853f)));
+      std::int32_t cx = 0, cy = 0;
+      REQUIRE(w.grid().world_to_cell(after.x, after.y, cx, cy));
+      REQUIRE(w.grid().classify(cx, cy) != est::CellClass::occupied);
+      if (kind == est::sim::RobotKind::omni) REQUIRE(s.wheels == 4u);
+    }
+    INFO("robot " << static_cast<int>(kind));
+    CHECK(path > 20.0f);          // it drives the route (0.8 m/s for 40 s, slower at the waypoints)
+    CHECK(max_sideways > 0.4f);   // m/s to its left or right
+    if (kind == est::sim::RobotKind::holonomic)
+      CHECK(max_turn < 0.05f);    // its heading drifts by the truth's noise only
+    else
+      CHECK(max_turn > 0.5f);     // the omni base turns on its own schedule
+  }
+}

@@ -47,6 +47,8 @@ class EstimatorPipeline {
   virtual est::loop::InputKinds inputs() const = 0;  // the kinds the estimator uses
   virtual std::string description() const = 0;      // model, filter, range model, particles
 
+  virtual est::PoseEstimate estimate() const = 0;    // the estimator's, now
+
   // MCL: the particles and the filter's counters (nullptr and an empty set for the EKF); EKF: its counters.
   virtual est::ConstParticleSetView particles() const = 0;
   virtual const est::MclCounters* mcl_counters() const = 0;

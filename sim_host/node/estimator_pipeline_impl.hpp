@@ -99,9 +99,10 @@ template <>
 inline HostBeamScan make_scan_model<HostBeamScan>(const EstimatorSpec& spec, const MapModels& m) {
   return HostBeamScan(m.table_view, m.beam, spec.sensor_mount);
 }
+using HostSteeredScan = est::loop::SteeredScan<kMaxParticles>;
 template <>
-inline est::loop::SteeredScan make_scan_model<est::loop::SteeredScan>(const EstimatorSpec& spec, const MapModels& m) {
-  return est::loop::SteeredScan(m.field, spec.steered);
+inline HostSteeredScan make_scan_model<HostSteeredScan>(const EstimatorSpec& spec, const MapModels& m) {
+  return HostSteeredScan(m.field, spec.steered, &m.field_grid_view);
 }
 
 template <typename Model, est::loop::Filter F, typename ScanModel>
@@ -145,6 +146,8 @@ class PipelineImpl final : public EstimatorPipeline {
   std::uint32_t nonfinite_estimates() const override { return pipeline_.port().nonfinite_estimates(); }
   est::loop::InputKinds inputs() const override { return loop_.inputs(); }
   std::string description() const override { return describe(spec_, particles().count); }
+
+  est::PoseEstimate estimate() const override { return estimator_.estimate(); }
 
   est::ConstParticleSetView particles() const override {
     if constexpr (kMcl) return estimator_.filter().particles();
@@ -210,7 +213,7 @@ std::unique_ptr<EstimatorPipeline> make_for_model(const EstimatorSpec& s, const 
       return std::make_unique<PipelineImpl<Model, Filter::mcl, HostBeamScan>>(s, maps, a, b, sink);
     case RangeModel::steered:
       if constexpr (std::is_same_v<Model, est::BicycleMotionModel>)
-        return std::make_unique<PipelineImpl<Model, Filter::mcl, est::loop::SteeredScan>>(s, maps, a, b, sink);
+        return std::make_unique<PipelineImpl<Model, Filter::mcl, HostSteeredScan>>(s, maps, a, b, sink);
       break;
   }
   throw std::invalid_argument(std::string("the steered range model is the bicycle's handlebar: --model bicycle, not ") +

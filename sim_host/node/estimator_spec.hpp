@@ -25,14 +25,14 @@
 namespace node {
 
 // Every motion model of est/motion, by the name the command lines use.
-enum class RobotModel : std::uint8_t { velocity, odometry, bicycle, diff_drive, omni, holonomic };
+using RobotModel = est::loop::MotionModelKind;
 inline constexpr RobotModel kRobotModels[] = {RobotModel::velocity, RobotModel::odometry, RobotModel::bicycle,
                                               RobotModel::diff_drive, RobotModel::omni, RobotModel::holonomic};
 const char* to_string(RobotModel m);      // "velocity", "odometry", "bicycle", "diff-drive", "omni", "holonomic"
 bool parse(const std::string& s, RobotModel& out);
 
 // MCL's range models (est/loop/likelihood_field_scan.hpp, beam_scan.hpp, steered_scan.hpp).
-enum class RangeModel : std::uint8_t { likelihood_field, beam, steered };
+using RangeModel = est::loop::RangeModelKind;
 const char* to_string(RangeModel m);      // "likelihood-field", "beam", "steered"
 bool parse(const std::string& s, RangeModel& out);
 
@@ -42,15 +42,16 @@ bool parse(const std::string& s, est::loop::Filter& out);
 // Each model's parameters and its control assembler's configuration. Noise defaults are for 100 Hz predictions:
 // per-step floors cover what the inputs do not see (slip, quantization, the encoders' scale error).
 struct MotionSpec {
-  est::VelocityParams velocity{0.02f, 0.002f, 0.02f, 0.02f, 0.0005f, 0.0005f, 0.01f};
-  est::OdometryParams odometry{0.02f, 0.02f, 0.02f, 0.002f, 1.0e-4f};
+  est::VelocityParams velocity{0.01f, 0.001f, 0.01f, 0.01f, 0.0005f, 0.0005f, 0.01f};
+  est::OdometryParams odometry{0.002f, 0.005f, 0.01f, 0.0005f, 1.0e-4f};
   est::BicycleParams bicycle{0.6f, 1.0471976f, 0.04f, 0.1f, 0.01f, 0.01f};
   est::DiffDriveParams diff_drive{0.05f, 0.3f, 4096u, 0.05f, 0.003f, 0.01f};
-  est::OmniParams omni{{0.05f, 0.01f, 0.01f, 0.01f, 0.05f, 0.01f, 0.05f, 0.05f, 0.05f}, 0.01f};
+  est::OmniParams omni{{0.3f, 0.05f, 0.05f, 0.05f, 0.3f, 0.05f, 0.1f, 0.1f, 0.3f}, 0.01f};
   est::HolonomicPoseParams holonomic{};  // B and Q are set per step by the assembler
   est::loop::ControlAssembler<est::BicycleMotionModel>::Config bicycle_control{};
   est::loop::ControlAssembler<est::OmniMotionModel>::Config omni_control{};
-  est::loop::ControlAssembler<est::HolonomicPoseMotionModel>::Config holonomic_control{};
+  est::loop::ControlAssembler<est::HolonomicPoseMotionModel>::Config holonomic_control{
+      Eigen::Matrix2f::Identity() * 0.004f, 0.002f};
 };
 
 struct EstimatorSpec {

@@ -205,8 +205,8 @@ void add_options(CLI::App& app, NodeConfig& c) {
              "steered: the steering axis in the robot frame pivot_x,pivot_y (m)", sensor);
   add_pose(app, "--handlebar-sensor", e.steered.mount.sensor_on_part, nullptr,
            "steered: the sensor's pose on the handlebar x,y,theta (m, m, rad)", sensor);
-  app.add_option("--handle-positions", e.steered.positions, "steered: handle positions M across the stops")
-      ->capture_default_str()->check(CLI::Range(1, 16))->group(sensor);
+  app.add_option("--handle-positions", e.steered.positions, "steered: handle positions M across the stops (0: the steering reading taken as exact)")
+      ->capture_default_str()->check(CLI::Range(0, 16))->group(sensor);
   app.add_option("--handle-reading-sigma", e.steered.reading_sigma,
                  "steered: how far to trust the steering reading for p(alpha_m | x) (rad)")->capture_default_str()->group(sensor);
 
@@ -319,6 +319,81 @@ void finish_options(const CLI::App& app, NodeConfig& c) {
       app.count("--wheel-count") == 0)
     e.limits.wheels.wheel_count = e.motion.omni_control.wheels.count;
   if (c.lcm_out_url.empty()) c.lcm_out_url = c.lcm_url;
+}
+
+namespace {
+std::string f(float v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.9g", static_cast<double>(v));
+  return b;
+}
+std::string list(const float* v, int n) {
+  std::string s;
+  for (int i = 0; i < n; ++i) s += (i ? "," : "") + f(v[i]);
+  return s;
+}
+std::string pose(const est::Pose2& p) { return f(p.x) + "," + f(p.y) + "," + f(p.theta); }
+}  // namespace
+
+std::string command_line(const EstimatorSpec& e, const std::string& map, const std::string& landmarks) {
+  const MotionSpec& m = e.motion;
+  std::string o = std::string("--model ") + to_string(e.model) + " --filter " + to_string(e.filter);
+  switch (e.model) {
+    case RobotModel::velocity: o += " --velocity-noise " + list(&m.velocity.a1, 6); break;
+    case RobotModel::odometry: o += " --odometry-noise " + list(&m.odometry.a1, 4); break;
+    case RobotModel::bicycle:
+      o += " --frame-length " + f(m.bicycle.frame_length) + " --steer-max " + f(m.bicycle.steer_max) +
+           " --steer-sigma " + f(m.bicycle.steer_sigma) + " --speed-var-per-speed " + f(m.bicycle.speed_var_per_speed) +
+           " --bicycle-rot-sigma " + f(m.bicycle.final_rot_sigma) + " --metres-per-tick " +
+           f(m.bicycle_control.metres_per_tick) + " --unknown-steer-sigma " + f(m.bicycle_control.unknown_steer_sigma);
+      if (!m.bicycle_control.steering_fitted) o += " --no-steering-sensor";
+      break;
+    case RobotModel::diff_drive:
+      o += " --wheel-radius " + f(m.diff_drive.wheel_radius) + " --track-width " + f(m.diff_drive.track_width) +
+           " --ticks-per-rev " + std::to_string(m.diff_drive.ticks_per_rev) + " --travel-sigma-per-m " +
+           f(m.diff_drive.travel_sigma_per_m) + " --travel-sigma-floor " + f(m.diff_drive.travel_sigma_floor) +
+           " --rot-sigma " + f(m.diff_drive.final_rot_sigma);
+      break;
+    case RobotModel::omni:
+      o += " --omni-noise " + list(m.omni.alpha, 9);
+      if (m.omni_control.source == est::loop::ControlAssembler<est::OmniMotionModel>::Source::wheels)
+        o += " --omni-wheels mecanum";  // the simulator's base (node_config.cpp: 0.2 m, 0.5 mm per tick)
+      break;
+    case RobotModel::holonomic:
+      o += " --holonomic-noise " + f(m.holonomic_control.noise_per_s(0, 0)) + " --holonomic-heading-sigma " +
+           f(m.holonomic_control.heading_sigma_per_sqrt_s);
+      break;
+  }
+  o += " --wheel-count " + std::to_string(e.limits.wheels.wheel_count) + " --max-ticks-per-s " +
+       std::to_string(e.limits.wheels.max_ticks_per_s) + " --max-steer " + f(e.limits.steering.max_angle_rad) +
+       " --max-speed " + f(e.limits.twist.max_speed_mps) + " --max-turn-rate " + f(e.limits.twist.max_turn_rate_rps);
+  if (e.filter == est::loop::Filter::ekf) {
+    o += " --landmarks " + landmarks + " --landmark-sigma-range " + f(e.landmark_noise.sigma_range) +
+         " --landmark-sigma-bearing " + f(e.landmark_noise.sigma_bearing) + " --landmark-sigma-signature " +
+         f(e.landmark_noise.sigma_signature) + " --landmark-max-range " + f(e.limits.landmarks.max_range_m) +
+         " --ekf-rot-sigma " + f(e.ekf_rot_sigma) + " --lost-sigma " + f(e.lost_sigma_m);
+  } else {
+    o += " --map " + map + " --sensor-model " + to_string(e.range_model) + " --sensor-mount " + pose(e.sensor_mount) +
+         " --range-max " + f(e.field.range_max) + " --z-hit " + f(e.field.z_hit) + " --z-max " + f(e.field.z_max) +
+         " --z-rand " + f(e.field.z_rand) + " --sigma-hit " + f(e.field.sigma_hit) + " --max-distance " +
+         f(e.field.max_distance) + " --particles " + std::to_string(e.particles) + " --seed " +
+         std::to_string(e.seed) + " --beam-stride " + std::to_string(e.beam_stride) + " --alpha-slow " +
+         f(e.mcl.alpha_slow) + " --alpha-fast " + f(e.mcl.alpha_fast) + " --max-injection " +
+         f(e.mcl.max_injection_fraction) + " --clearance " + f(e.clearance_m) + " --cluster-cell " +
+         f(e.cluster_cell_m) + " --kld-min " + std::to_string(e.mcl.kld_config.n_min);
+    if (e.mcl.kld) o += " --kld";
+    if (!e.mcl.recovery) o += " --no-recovery";
+    if (e.range_model == RangeModel::steered)
+      o += " --handlebar " + f(e.steered.mount.pivot_x) + "," + f(e.steered.mount.pivot_y) + " --handlebar-sensor " +
+           pose(e.steered.mount.sensor_on_part) + " --handle-positions " + std::to_string(e.steered.positions) +
+           " --handle-reading-sigma " + f(e.steered.reading_sigma);
+  }
+  if (e.global)
+    o += " --global";
+  else
+    o += " --initial-pose " + pose(e.initial_pose) + " --initial-sigma " + f(e.initial_sigma_xy_m) + "," +
+         f(e.initial_sigma_theta_rad);
+  return o;
 }
 
 }  // namespace node

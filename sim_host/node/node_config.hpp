@@ -44,4 +44,8 @@ struct NodeConfig {
 void add_options(CLI::App& app, NodeConfig& c);
 void finish_options(const CLI::App& app, NodeConfig& c);
 
+// The options that give `spec` (with the map and landmark sources), for a replay of a recorded run: parsing them
+// with add_options gives the same estimator.
+std::string command_line(const EstimatorSpec& spec, const std::string& map, const std::string& landmarks);
+
 }  // namespace node

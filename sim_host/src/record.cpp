@@ -9,6 +9,8 @@
 
 #include "hal/lcm/lcm_backend.hpp"
 #include "hal/lcm/lcm_convert.hpp"
+#include "node/node_config.hpp"
+#include "sim/simulate.hpp"
 
 namespace sim {
 namespace {
@@ -66,6 +68,8 @@ RecordSummary record_lcm_log(const SensorStream& s, const std::string& path) {
         w.write(ch.wheel_ticks, e.arrival_ns, hal::lcm::to_lcm(e.ticks, kEncoderCounterBits), summary);
         break;
       case StreamKind::steering: w.write(ch.steering, e.arrival_ns, hal::lcm::to_lcm(e.steering), summary); break;
+      case StreamKind::twist: w.write(ch.twist, e.arrival_ns, hal::lcm::to_lcm(e.twist), summary); break;
+      case StreamKind::odometry: w.write(ch.odometry, e.arrival_ns, hal::lcm::to_lcm(e.odometry), summary); break;
       case StreamKind::scan: w.write(ch.range_scan, e.arrival_ns, hal::lcm::to_lcm(s.scans[e.scan].view()), summary); break;
       case StreamKind::landmarks:
         w.write(ch.landmarks, e.arrival_ns, hal::lcm::to_lcm(s.sightings[e.sighting].view()), summary);
@@ -87,13 +91,15 @@ std::string record_sidecar_json(const SensorStream& s, const ScenarioConfig& sc,
                    {"duration_s", sc.duration_s},
                    {"start_pose", {s.truth.front().pose.x, s.truth.front().pose.y, s.truth.front().pose.theta}},
                    {"kidnap_at_s", s.kidnap_ns >= 0 ? static_cast<double>(s.kidnap_ns - kSimStartNs) * 1e-9 : -1.0}};
-  j["channels"] = {{"wheel_ticks", ch.wheel_ticks}, {"steering", ch.steering}, {"range_scan", ch.range_scan},
-                   {"landmarks", ch.landmarks},     {"ground_truth", ch.ground_truth}};
+  j["channels"] = {{"wheel_ticks", ch.wheel_ticks}, {"steering", ch.steering},   {"twist", ch.twist},
+                   {"odometry", ch.odometry},       {"range_scan", ch.range_scan}, {"landmarks", ch.landmarks},
+                   {"ground_truth", ch.ground_truth}};
   j["messages"] = summary.messages;
   j["events"] = summary.events;
   j["encoder"] = {{"counter_bits", kEncoderCounterBits},
                   {"metres_per_tick", s.metres_per_tick},
-                  {"wheels", "0: traction (bicycle: front wheel; diff drive: left), 1: rear wheel / right"},
+                  {"wheels", "bicycle: 0 the front (traction) wheel, 1 the rear; diff drive: 0 left, 1 right; omni: "
+                             "mecanum front-left, front-right, rear-left, rear-right"},
                   {"max_ticks_per_s", s.limits.wheels.max_ticks_per_s}};
   j["rangefinder_mount"] = {s.mount.x, s.mount.y, s.mount.theta};
   j["steering_max_angle_rad"] = s.limits.steering.max_angle_rad;
@@ -111,31 +117,21 @@ std::string record_sidecar_json(const SensorStream& s, const ScenarioConfig& sc,
                       {"expected_counter", f.expected}, {"amount", f.amount}});
   j["injected_faults"] = faults;
   j["expected_reject_counts"] = s.expected_counts();
-  // estimator_node options that model this robot as the simulation's filter does (hal/tools/node_config.cpp).
-  const RobotModels m = robot_models();
-  std::ostringstream node;
-  const est::Pose2 p0 = s.truth.front().pose;
-  node << "--replay " << log_path << " --map " << (sc.map_yaml.empty() ? "office" : sc.map_yaml)
-       << " --initial-pose " << p0.x << "," << p0.y << "," << p0.theta << " --range-max " << sc.range_max_m
-       << " --max-ticks-per-s " << s.limits.wheels.max_ticks_per_s << " --wheel-counter-bits " << kEncoderCounterBits;
-  if (sc.robot == RobotKind::bicycle)
-    node << " --model bicycle --frame-length " << m.bicycle_filter.frame_length << " --steer-max "
-         << m.bicycle_filter.steer_max << " --max-steer " << s.limits.steering.max_angle_rad << " --steer-sigma "
-         << m.bicycle_filter.steer_sigma << " --speed-var-per-speed " << m.bicycle_filter.speed_var_per_speed
-         << " --bicycle-rot-sigma " << m.bicycle_filter.final_rot_sigma << " --metres-per-tick " << s.metres_per_tick;
-  else
-    node << " --model diff-drive --wheel-radius " << m.diff_filter.wheel_radius << " --track-width "
-         << m.diff_filter.track_width << " --ticks-per-rev " << m.diff_filter.ticks_per_rev << " --travel-sigma-per-m "
-         << m.diff_filter.travel_sigma_per_m << " --travel-sigma-floor " << m.diff_filter.travel_sigma_floor
-         << " --rot-sigma " << m.diff_filter.final_rot_sigma;
-  j["estimator_node_options"] = node.str();
-  if (s.landmark_count > 0 && sc.map_yaml.empty())
-    j["estimator_node_options_ekf"] =
-        node.str() + " --filter ekf --landmarks office --landmark-sigma-range " +
-        std::to_string(sc.landmark_sensor.noise.sigma_range) + " --landmark-sigma-bearing " +
-        std::to_string(sc.landmark_sensor.noise.sigma_bearing) + " --landmark-sigma-signature " +
-        std::to_string(sc.landmark_ids_known ? 0.0f : sc.landmark_sensor.noise.sigma_signature) +
-        " --landmark-max-range " + std::to_string(s.limits.landmarks.max_range_m);
+  // estimator_node options that model this robot as the simulation's filter does (node/node_config.cpp).
+  FilterOptions mcl;
+  mcl.start = StartKind::tracking;
+  const std::string map = sc.map_yaml.empty() ? "office" : sc.map_yaml;
+  const std::string tail = " --wheel-counter-bits " + std::to_string(kEncoderCounterBits);
+  j["estimator_node_options"] =
+      "--replay " + log_path + " " + node::command_line(estimator_spec(sc, mcl, s), map, "office") + tail;
+  if (s.landmark_count > 0 && sc.map_yaml.empty()) {
+    FilterOptions ekf;
+    ekf.filter = est::loop::Filter::ekf;
+    ekf.start = StartKind::tracking;
+    node::EstimatorSpec e = estimator_spec(sc, ekf, s);
+    if (sc.landmark_ids_known) e.landmark_noise.sigma_signature = 0.0f;
+    j["estimator_node_options_ekf"] = "--replay " + log_path + " " + node::command_line(e, map, "office") + tail;
+  }
   j["note"] = "expected_reject_counts hold when the log is replayed through hal::ValidatedInputs with the HAL clock at "
               "each event's time (the arrival) and the loop's 20 ms reorder window; hal.* keys are hal::Fault reasons "
               "per input kind, loop.too_old the FilterLoop's counter. A replay that takes each message's own stamp as the HAL "

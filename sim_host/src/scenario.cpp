@@ -11,7 +11,21 @@
 
 namespace sim {
 
-const char* to_string(RobotKind r) { return r == RobotKind::bicycle ? "bicycle" : "diff-drive"; }
+bool has_wheel_ticks(RobotKind r) {
+  return r == RobotKind::bicycle || r == RobotKind::diff_drive || r == RobotKind::omni;
+}
+bool has_twist(RobotKind r) { return r == RobotKind::velocity || r == RobotKind::holonomic; }
+bool has_odometry(RobotKind r) { return r == RobotKind::odometry; }
+
+bool fault_applies(RobotKind r, const std::string& key, bool steering_sensor, bool landmarks) {
+  const auto stream = [&](const char* p) { return key.rfind(p, 0) == 0; };
+  if (stream("steering.")) return r == RobotKind::bicycle && steering_sensor;
+  if (stream("wheel_ticks.")) return has_wheel_ticks(r);
+  if (stream("twist.")) return has_twist(r);
+  if (stream("odometry.")) return has_odometry(r);
+  if (stream("landmarks.")) return landmarks;
+  return true;
+}
 
 const std::vector<FaultClassInfo>& fault_catalogue() {
   static const std::vector<FaultClassInfo> c = {
@@ -31,6 +45,23 @@ const std::vector<FaultClassInfo>& fault_catalogue() {
       {"steering.from_future", "stamped 1 s ahead of the clock", "hal.steering.from_future"},
       {"steering.nan", "the angle is NaN", "hal.steering.not_finite"},
       {"steering.spike", "the angle reads 2.5 rad, beyond the mechanical stop", "hal.steering.out_of_range"},
+      {"twist.dropped", "the sample is lost on the bus (the previous twist holds)", "-"},
+      {"twist.duplicate", "the sample is delivered twice", "hal.twist.duplicate"},
+      {"twist.stale", "delivered 300 ms after its stamp", "hal.twist.stale"},
+      {"twist.late", "delivered 60 ms late, after newer samples of its kind", "hal.twist.time_backwards"},
+      {"twist.time_backwards", "stamped 1.5 periods before the previous sample", "hal.twist.time_backwards"},
+      {"twist.from_future", "stamped 1 s ahead of the clock", "hal.twist.from_future"},
+      {"twist.nan", "the forward speed is NaN", "hal.twist.not_finite"},
+      {"twist.spike", "the forward speed reads 20 m/s, beyond the base's limit", "hal.twist.out_of_range"},
+      {"odometry.dropped", "the pose is lost on the bus (the next increment spans both intervals)", "-"},
+      {"odometry.duplicate", "the sample is delivered twice", "hal.odometry.duplicate"},
+      {"odometry.stale", "delivered 300 ms after its stamp", "hal.odometry.stale"},
+      {"odometry.late", "delivered 60 ms late, after newer samples of its kind", "hal.odometry.time_backwards"},
+      {"odometry.time_backwards", "stamped 1.5 periods before the previous sample", "hal.odometry.time_backwards"},
+      {"odometry.from_future", "stamped 1 s ahead of the clock", "hal.odometry.from_future"},
+      {"odometry.nan", "the pose's x is NaN", "hal.odometry.not_finite"},
+      {"odometry.reset", "the base's odometry frame restarts elsewhere (every later pose offset by 10 m, 1 rad)",
+       "hal.odometry.out_of_range"},
       {"scan.dropped", "the scan is lost", "-"},
       {"scan.duplicate", "the scan is delivered twice", "hal.scan.duplicate"},
       {"scan.stale", "delivered 300 ms after its stamp", "hal.scan.stale"},
@@ -53,16 +84,31 @@ const std::vector<FaultClassInfo>& fault_catalogue() {
   return c;
 }
 
-FaultCounts default_fault_counts(RobotKind robot, bool landmarks) {
+FaultCounts default_fault_counts(RobotKind robot, bool landmarks, bool steering_sensor) {
   FaultCounts f = {
-      {"wheel_ticks.dropped", 5}, {"wheel_ticks.duplicate", 3}, {"wheel_ticks.stale", 2},
-      {"wheel_ticks.late", 2},    {"wheel_ticks.time_backwards", 2}, {"wheel_ticks.from_future", 1},
-      {"wheel_ticks.counter_jump", 1},
       {"scan.dropped", 5},        {"scan.duplicate", 2},        {"scan.stale", 2},
       {"scan.late", 3},           {"scan.reordered", 3},        {"scan.time_backwards", 2},
       {"scan.from_future", 1},    {"scan.nan_scan", 2},         {"scan.nan_beams", 5},
   };
-  if (robot == RobotKind::bicycle) {
+  if (has_wheel_ticks(robot)) {
+    const FaultCounts w = {{"wheel_ticks.dropped", 5}, {"wheel_ticks.duplicate", 3}, {"wheel_ticks.stale", 2},
+                           {"wheel_ticks.late", 2},    {"wheel_ticks.time_backwards", 2},
+                           {"wheel_ticks.from_future", 1}, {"wheel_ticks.counter_jump", 1}};
+    f.insert(w.begin(), w.end());
+  }
+  if (has_twist(robot)) {
+    const FaultCounts t = {{"twist.dropped", 4}, {"twist.duplicate", 2},      {"twist.stale", 2},
+                           {"twist.late", 2},    {"twist.time_backwards", 2}, {"twist.from_future", 1},
+                           {"twist.nan", 2},     {"twist.spike", 2}};
+    f.insert(t.begin(), t.end());
+  }
+  if (has_odometry(robot)) {
+    const FaultCounts o = {{"odometry.dropped", 4}, {"odometry.duplicate", 2},      {"odometry.stale", 2},
+                           {"odometry.late", 2},    {"odometry.time_backwards", 2}, {"odometry.from_future", 1},
+                           {"odometry.nan", 2},     {"odometry.reset", 1}};
+    f.insert(o.begin(), o.end());
+  }
+  if (robot == RobotKind::bicycle && steering_sensor) {
     const FaultCounts s = {{"steering.dropped", 3},  {"steering.duplicate", 2},      {"steering.stale", 1},
                            {"steering.late", 1},     {"steering.reordered", 2},      {"steering.time_backwards", 2},
                            {"steering.from_future", 1}, {"steering.nan", 3},         {"steering.spike", 2}};

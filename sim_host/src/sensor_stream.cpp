@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "est/loop/filter_loop.hpp"
+#include "est/sensor/steered_range_finder.hpp"
 #include "est/random/samplers.hpp"
 #include "est/random/xoshiro128.hpp"
 #include "world/landmark_sensor.hpp"
@@ -33,6 +34,8 @@ constexpr hal::TimeNs kDuplicateGap = kMs / 5;
 constexpr std::uint32_t kCounterStart = 0xffffc000u;  // 16384 ticks before the 32-bit counters wrap
 constexpr int kFaultSpacing = 4;                      // samples between two faults of one stream
 constexpr float kSteeringSpikeRad = 2.5f;
+constexpr float kTwistSpikeMps = 20.0f;
+const est::Pose2 kOdometryReset{10.0f, -5.0f, 1.0f};  // the new odometry frame's offset after a reset
 constexpr float kNanBeamFraction = 0.1f;
 constexpr float kLandmarkSpikeFactor = 3.0f;          // a range_spike feature reads this times the sensor's reach
 constexpr float kLandmarkRangeMargin = 1.0f;          // the HAL accepts features this far beyond the reach (noise)
@@ -88,7 +91,7 @@ Schedule place_faults(const StreamSpec& s, const FaultCounts& counts, const std:
 
 // What must count an injected timing fault, from the timing rules of the HAL (hal/sample_timing.hpp) and the loop.
 std::string expect_timing(const StreamSpec& s, const std::string& cls, hal::TimeNs delay, hal::TimeNs stamp_shift,
-                          const hal::TimingLimits& limits, hal::TimeNs encoder_period) {
+                          const hal::TimingLimits& limits, hal::TimeNs encoder_period) {  // of the motion stream
   const std::string hal_prefix = std::string("hal.") + to_string(s.kind) + ".";
   const hal::TimeNs age = delay - stamp_shift;  // arrival - stamp
   if (age > limits.max_age_ns) return hal_prefix + "stale";
@@ -97,7 +100,9 @@ std::string expect_timing(const StreamSpec& s, const std::string& cls, hal::Time
   if (delay > s.period + s.latency) return hal_prefix + "time_backwards";  // newer samples of its kind came first
   const hal::TimeNs window = est::loop::LoopTiming{}.reorder_window_ns;
   if (delay <= window) return "-";
-  if (delay >= window + kLatencyWheels + 3 * encoder_period) return "loop.too_old";
+  // By its arrival the motion samples stamped up to floor((delay - latency) / period) periods later are in; the loop
+  // has applied everything a window older than the newest of them: beyond the sample's stamp (one period to spare).
+  if (((delay - kLatencyWheels) / encoder_period) * encoder_period >= window + encoder_period) return "loop.too_old";
   throw std::invalid_argument(s.name + std::string(".") + cls +
                               ": with these sensor rates the delay neither stays within the reorder window nor "
                               "clearly exceeds it; raise --encoder-hz");
@@ -132,6 +137,8 @@ const char* to_string(StreamKind k) {
   switch (k) {
     case StreamKind::wheel_ticks: return "wheel_ticks";
     case StreamKind::steering: return "steering";
+    case StreamKind::twist: return "twist";
+    case StreamKind::odometry: return "odometry";
     case StreamKind::scan: return "scan";
     case StreamKind::landmarks: return "landmarks";
   }
@@ -141,13 +148,38 @@ const char* to_string(StreamKind k) {
 RobotModels robot_models() {
   RobotModels m;
   const float deg = static_cast<float>(kPi / 180.0);
+  est::sim::RobotTruth& t = m.truth;
+  node::MotionSpec& f = m.filter;
   // Bicycle: 0.6 m frame, stop at 60 deg. Truth noise per 10 ms step; the filter is told more (estimator_node's
   // defaults), which also covers the encoder's scale error, noise and slip.
-  m.bicycle_truth = {0.6f, 60.0f * deg, 0.01f, 0.0005f, 0.001f, kSimStepS};
-  m.bicycle_filter = {0.6f, 60.0f * deg, 0.05f, 0.1f, 0.01f, kSimStepS};
-  m.diff_truth = {0.05f, 0.3f, 4096u, 0.02f, 0.0002f, 0.001f};
-  m.diff_filter = {0.05f, 0.3f, 4096u, 0.1f, 0.003f, 0.01f};
+  t.bicycle = {0.6f, 60.0f * deg, 0.01f, 0.0005f, 0.001f, kSimStepS};
+  f.bicycle = {0.6f, 60.0f * deg, 0.05f, 0.1f, 0.01f, kSimStepS};
+  t.diff_drive = {0.05f, 0.3f, 4096u, 0.02f, 0.0002f, 0.001f};
+  f.diff_drive = {0.05f, 0.3f, 4096u, 0.1f, 0.003f, 0.01f};
+  // The other models' filter noise is estimator_node's defaults (node/estimator_spec.hpp), which cover the errors
+  // below: the velocity robot executes its exact command with this noise (a1..a6 per step); the odometry base
+  // integrates its (erring) wheel counts; the omni base's wheels count with the encoders' errors.
+  t.velocity = {0.002f, 0.0002f, 0.002f, 0.002f, 0.0001f, 0.0001f, kSimStepS};
+  f.velocity.dt = kSimStepS;
+  t.omni = {{0.01f, 0.002f, 0.002f, 0.002f, 0.01f, 0.002f, 0.005f, 0.005f, 0.01f}, kSimStepS};
+  f.omni.dt = kSimStepS;
+  float rows[4][3] = {};
+  est::mecanum_wheel_rows(0.2f, 0.2f, rows);
+  est::configure_omni_wheels(t.omni_wheels, rows, 4, static_cast<float>(metres_per_tick(RobotKind::omni)));
+  f.omni_control.source = est::loop::ControlAssembler<est::OmniMotionModel>::Source::wheels;
+  f.omni_control.wheels = t.omni_wheels;
+  // Holonomic robot: displacement noise per step (B = dt I, Q per step).
+  t.holonomic.point.Q = Eigen::Matrix2f::Identity() * 1.0e-6f;
+  f.bicycle_control.metres_per_tick = static_cast<float>(metres_per_tick(RobotKind::bicycle));
   return m;
+}
+
+double metres_per_tick(RobotKind r) {
+  switch (r) {
+    case RobotKind::bicycle: return 0.001;
+    case RobotKind::omni: return 0.0005;
+    default: return static_cast<double>(est::diff_drive_m_per_tick({0.05f, 0.3f, 4096u, 0.0f, 0.0f, 0.0f}));
+  }
 }
 
 const TruthSample& SensorStream::truth_at(hal::TimeNs t) const {
@@ -170,7 +202,7 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
   // Configuration checks.
   if (!(c.duration_s > 0.0 && c.duration_s <= 3600.0)) throw std::invalid_argument("--duration must be in (0, 3600] s");
   if (!(c.speed_mps > 0.0 && c.speed_mps <= 3.0)) throw std::invalid_argument("--speed must be in (0, 3] m/s");
-  for (int hz : {c.encoder_hz, c.steering_hz, c.scan_hz, c.landmark_hz})
+  for (int hz : {c.encoder_hz, c.steering_hz, c.twist_hz, c.odometry_hz, c.scan_hz, c.landmark_hz})
     if (hz <= 0 || 100 % hz != 0) throw std::invalid_argument("sensor rates must divide 100 Hz (1, 2, 4, 5, 10, 20, 25, 50, 100)");
   const est::sim::LandmarkSensorSpec& lms = c.landmark_sensor;
   if (!(lms.noise.sigma_range > 0.0f) || !(lms.noise.sigma_bearing > 0.0f) || !(lms.noise.sigma_signature >= 0.0f) ||
@@ -187,40 +219,56 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
   for (const auto& [key, n] : c.faults) {
     if (!known.count(key)) throw std::invalid_argument("unknown fault class '" + key + "' (sim_host simulate --list-faults)");
     if (n < 0) throw std::invalid_argument("fault count of '" + key + "' is negative");
-    if (n > 0 && c.robot == RobotKind::diff_drive && key.rfind("steering.", 0) == 0)
-      throw std::invalid_argument("'" + key + "': the differential drive has no steering sensor");
+    if (n > 0 && key.rfind("landmarks.", 0) != 0 && !fault_applies(c.robot, key, c.steering_sensor))
+      throw std::invalid_argument("'" + key + "': this robot has no such stream (" + to_string(c.robot) +
+                                  (c.steering_sensor ? "" : ", no steering sensor") + ")");
     if (n > 0 && world.landmarks.size() == 0 && key.rfind("landmarks.", 0) == 0)
       throw std::invalid_argument("'" + key + "': this world has no landmarks (a ROS map): no landmark sightings");
   }
 
-  const RobotModels models = robot_models();
+  RobotModels models = robot_models();
+  models.truth.handle_detents = c.handle_detents;
   const bool bicycle = c.robot == RobotKind::bicycle;
+  const bool odometry_base = has_odometry(c.robot);
   const est::sim::Route& route = *world.route;
   const int steps = static_cast<int>(std::lround(c.duration_s / static_cast<double>(kSimStepS)));
   const int enc_div = 100 / c.encoder_hz, steer_div = 100 / c.steering_hz, scan_div = 100 / c.scan_hz;
+  const int twist_div = 100 / c.twist_hz, odom_div = 100 / c.odometry_hz;
   const int mark_div = 100 / c.landmark_hz;
 
   SensorStream s;
   s.route_waypoints = route.size();
   s.end_ns = kSimStartNs + static_cast<hal::TimeNs>(steps) * kSimStepNs;
-  s.mount = {0.0f, 0.0f, 0.0f};
-  s.metres_per_tick = bicycle ? 0.001 : static_cast<double>(est::diff_drive_m_per_tick(models.diff_truth));
-  const double wheel_speed_max =
-      bicycle ? c.speed_mps : c.speed_mps + 1.5 * 0.5 * static_cast<double>(models.diff_truth.track_width);
-  s.limits.wheels.wheel_count = 2;
+  s.mount = c.handlebar ? est::steered_sensor_mount(c.handlebar_mount, 0.0f) : est::Pose2{0.0f, 0.0f, 0.0f};
+  s.metres_per_tick = metres_per_tick(c.robot);
+  // The fastest wheel: the bicycle's front wheel at speed; a diff drive turning at 1.5 rad/s; a mecanum wheel with
+  // |v1| + |v2| + (lx + ly) |w| (the omni base turns at up to 1 rad/s).
+  const double wheel_speed_max = bicycle ? c.speed_mps
+                                 : c.robot == RobotKind::omni
+                                     ? 1.5 * c.speed_mps + 0.4
+                                     : c.speed_mps + 1.5 * 0.5 * static_cast<double>(models.truth.diff_drive.track_width);
+  s.limits.wheels.wheel_count = c.robot == RobotKind::omni ? 4 : 2;
   s.limits.wheels.counter_bits = kEncoderCounterBits;
   s.limits.wheels.max_ticks_per_s = static_cast<std::uint32_t>(std::ceil(3.0 * wheel_speed_max / s.metres_per_tick));
-  s.limits.steering.max_angle_rad = models.bicycle_truth.steer_max;
+  s.limits.steering.max_angle_rad = models.truth.bicycle.steer_max;
+  s.limits.twist.max_speed_mps = static_cast<float>(3.0 * c.speed_mps);
+  s.limits.twist.max_turn_rate_rps = 3.0f;
+  s.limits.odometry.max_speed_mps = static_cast<float>(3.0 * c.speed_mps);
+  s.limits.odometry.max_turn_rate_rps = 3.0f;
   s.limits.scan.max_beams = static_cast<std::size_t>(std::max(1081, c.beams));
   s.landmark_count = static_cast<std::size_t>(world.landmarks.size());
   s.limits.landmarks.max_range_m = lms.max_range + kLandmarkRangeMargin;
   s.limits.landmarks.max_id = std::max<std::int32_t>(0, world.landmarks.size() - 1);
-  s.limits.landmarks.timing = s.limits.wheels.timing;
+  s.limits.set_timing(s.limits.wheels.timing);
 
   const StreamSpec wheels{StreamKind::wheel_ticks, "wheel_ticks", enc_div * kSimStepNs, kLatencyWheels,
-                          steps / enc_div};
+                          has_wheel_ticks(c.robot) ? steps / enc_div : 0};
   const StreamSpec steering{StreamKind::steering, "steering", steer_div * kSimStepNs, kLatencySteering,
-                            bicycle ? steps / steer_div : 0};
+                            bicycle && c.steering_sensor ? steps / steer_div : 0};
+  const StreamSpec twists{StreamKind::twist, "twist", twist_div * kSimStepNs, kLatencyWheels,
+                          has_twist(c.robot) ? steps / twist_div : 0};
+  const StreamSpec odometry{StreamKind::odometry, "odometry", odom_div * kSimStepNs, kLatencyWheels,
+                            odometry_base ? steps / odom_div : 0};
   const StreamSpec scans{StreamKind::scan, "scan", scan_div * kSimStepNs, kLatencyScan, steps / scan_div};
   const StreamSpec marks{StreamKind::landmarks, "landmarks", mark_div * kSimStepNs, kLatencyLandmarks,
                          world.landmarks.size() > 0 ? steps / mark_div : 0};
@@ -244,6 +292,11 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
   const Schedule wheel_faults = place_faults(wheels, c.faults, exclude, fault_rng);
   const Schedule steer_faults = place_faults(steering, c.faults, exclude, fault_rng);
   const Schedule scan_faults = place_faults(scans, c.faults, exclude, fault_rng);
+  const Schedule twist_faults = place_faults(twists, c.faults, exclude, fault_rng);
+  // The period of the robot's motion stream: newer motion samples are what push a late input out of the window.
+  const hal::TimeNs motion_period =
+      wheels.count > 0 ? wheels.period : twists.count > 0 ? twists.period : odometry.period;
+  const Schedule odom_faults = place_faults(odometry, c.faults, exclude, fault_rng);
 
   std::vector<Interval> slips;
   for (int i = 0; i < c.slip_events && c.duration_s > 4.0; ++i) {
@@ -264,15 +317,10 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
       c.kidnap_at_s >= 0.0 && c.kidnap_at_s < c.duration_s ? static_cast<int>(std::lround(c.kidnap_at_s / static_cast<double>(kSimStepS))) : -1;
 
   const est::Pose2 start = route.pose_on_segment(c.start_segment % route.size(), 0.0f);
-  std::unique_ptr<est::sim::BicycleRobot> bike;
-  std::unique_ptr<est::sim::DiffDriveRobot> diff;
-  if (bicycle)
-    bike = std::make_unique<est::sim::BicycleRobot>(route, start, c.start_segment + 1, models.bicycle_truth,
-                                                    static_cast<float>(c.speed_mps));
-  else
-    diff = std::make_unique<est::sim::DiffDriveRobot>(route, start, c.start_segment + 1, models.diff_truth,
-                                                      static_cast<float>(c.speed_mps), kSimStepS);
-  const auto pose = [&]() { return bicycle ? bike->pose() : diff->pose(); };
+  const std::unique_ptr<est::sim::SimRobot> robot = est::sim::make_robot(
+      c.robot, route, start, c.start_segment + 1, models.truth, static_cast<float>(c.speed_mps), kSimStepS,
+      s.metres_per_tick);
+  const auto pose = [&]() { return robot->pose(); };
 
   // The rangefinder.
   const float fov = static_cast<float>(c.fov_deg * kPi / 180.0);
@@ -330,7 +378,7 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
       f.expected = hal_prefix + "not_finite";
     } else if (cls == "spike" || cls == "range_spike") {
       f.expected = hal_prefix + "out_of_range";
-    } else if (cls == "counter_jump") {
+    } else if (cls == "counter_jump" || cls == "reset") {
       f.expected = hal_prefix + "out_of_range";
     } else if (cls == "nan_scan") {
       f.expected = hal_prefix + "too_few_valid_beams";
@@ -338,17 +386,20 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
       f.expected = hal_prefix + "beams_nan";
     }
     if (cls == "stale" || cls == "late" || cls == "reordered" || cls == "time_backwards" || cls == "from_future")
-      f.expected = expect_timing(spec, cls, delay, shift, timing, wheels.period);
+      f.expected = expect_timing(spec, cls, delay, shift, timing, motion_period);
     if (deliver) {
       StreamEvent e = make(t + shift);
       e.arrival_ns = t + delay;
       if (cls == "nan" && spec.kind == StreamKind::steering) e.steering.angle_rad = std::numeric_limits<float>::quiet_NaN();
+      if (cls == "nan" && spec.kind == StreamKind::twist) e.twist.v1_mps = std::numeric_limits<float>::quiet_NaN();
+      if (cls == "nan" && spec.kind == StreamKind::odometry) e.odometry.pose.x = std::numeric_limits<float>::quiet_NaN();
       if ((cls == "nan" || cls == "range_spike") && spec.kind == StreamKind::landmarks) {
         // The first feature only: a sighting that is eligible for a fault has another one, which passes.
         s.sightings[e.sighting].features.front().range_m =
             cls == "nan" ? std::numeric_limits<float>::quiet_NaN() : kLandmarkSpikeFactor * lms.max_range;
       }
-      if (cls == "spike") e.steering.angle_rad = kSteeringSpikeRad;
+      if (cls == "spike" && spec.kind == StreamKind::steering) e.steering.angle_rad = kSteeringSpikeRad;
+      if (cls == "spike" && spec.kind == StreamKind::twist) e.twist.v1_mps = kTwistSpikeMps;
       if (cls == "nan_scan" || cls == "nan_beams") {
         ScanRecord copy = s.scans[e.scan];
         int n = 0;
@@ -380,18 +431,22 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
     s.faults.push_back(f);
   };
 
-  double counted[2] = {0.0, 0.0};  // ticks, fractional
-  std::uint32_t offset[2] = {kCounterStart, kCounterStart};
+  double counted[4] = {0.0, 0.0, 0.0, 0.0};  // ticks, fractional
+  std::uint32_t offset[4] = {kCounterStart, kCounterStart, kCounterStart, kCounterStart};
+  const std::uint8_t wheel_count = s.limits.wheels.wheel_count;
+  // The odometry base's own integration of its counted wheel travel (its drift is the encoders' errors), and the
+  // offset of its odometry frame after a reset.
+  double odom_x = 0.0, odom_y = 0.0, odom_theta = 0.0;
+  est::Pose2 odom_frame{};
+  const double half_track_inv = 1.0 / static_cast<double>(models.truth.diff_drive.track_width);
   s.truth.reserve(static_cast<std::size_t>(steps));
+  float steer_true = 0.0f;  // the handlebar's angle over the last step
   for (int k = 0; k < steps; ++k) {
     const hal::TimeNs t = kSimStartNs + static_cast<hal::TimeNs>(k) * kSimStepNs;
     if (k == kidnap_step) {
       const std::size_t seg = nearest_segment(route, pose()) + 3;
       const est::Pose2 to = route.pose_on_segment(seg % route.size(), 0.3f);
-      if (bicycle)
-        bike->teleport(to, seg + 1);
-      else
-        diff->teleport(to, seg + 1);
+      robot->teleport(to, seg + 1);
       s.kidnap_ns = t;
       s.faults.push_back({t, "event.kidnap", "-", 1, "", 0});
     }
@@ -407,24 +462,40 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
     const bool silent = in_any(burst, t);
 
     // Encoders: the counters through the previous step.
-    if (k % enc_div == 0 && !silent) {
+    if (wheels.count > 0 && k % enc_div == 0 && !silent) {
       const int j = k / enc_div;
       const auto it = wheel_faults.find(j);
       if (it != wheel_faults.end() && it->second == "counter_jump") {
         // An encoder reset: the counters continue from garbage, far from where they were.
-        for (std::uint32_t& o : offset) {
+        for (std::uint8_t w = 0; w < wheel_count; ++w) {
           std::uint32_t jump = 0;
           do jump = fault_rng.next(); while (jump < (1u << 24) || jump > 0u - (1u << 24));
-          o += jump;
+          offset[w] += jump;
         }
       }
       emit(wheels, wheel_faults, j, t, [&](hal::TimeNs stamp) {
         StreamEvent e;
         e.kind = StreamKind::wheel_ticks;
         e.ticks.stamp_ns = stamp;
-        e.ticks.wheel_count = 2;
-        e.ticks.count[0] = counter_value(offset[0], counted[0]);
-        e.ticks.count[1] = counter_value(offset[1], counted[1]);
+        e.ticks.wheel_count = wheel_count;
+        for (std::uint8_t w = 0; w < wheel_count; ++w) e.ticks.count[w] = counter_value(offset[w], counted[w]);
+        return e;
+      });
+    }
+
+    // Odometry: the base's integrated pose through the previous step, in its own frame.
+    if (odometry.count > 0 && k % odom_div == 0 && !silent) {
+      const int j = k / odom_div;
+      const auto it = odom_faults.find(j);
+      if (it != odom_faults.end() && it->second == "reset") odom_frame = est::compose(odom_frame, kOdometryReset);
+      const est::Pose2 integrated{static_cast<float>(odom_x), static_cast<float>(odom_y),
+                                  static_cast<float>(std::remainder(odom_theta, 2.0 * kPi))};
+      const est::Pose2 reported = est::compose(odom_frame, integrated);
+      emit(odometry, odom_faults, j, t, [&](hal::TimeNs stamp) {
+        StreamEvent e;
+        e.kind = StreamKind::odometry;
+        e.odometry.stamp_ns = stamp;
+        e.odometry.pose = reported;
         return e;
       });
     }
@@ -435,27 +506,41 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
       return 1.0 + c.encoder_scale_error + (slipping ? c.slip_factor : 0.0) +
              static_cast<double>(est::sample_normal(odo_rng, static_cast<float>(c.encoder_noise)));
     };
-    float steer_cmd = 0.0f;
-    if (bicycle) {
-      const est::BicycleControl u = bike->step(truth_rng);
-      steer_cmd = u.steer;
-      const double travel = static_cast<double>(u.v) * static_cast<double>(kSimStepS) / s.metres_per_tick;
-      counted[0] += travel * count_factor();
-      counted[1] += travel * std::cos(static_cast<double>(u.steer)) * count_factor();  // the rear wheel
-    } else {
-      const est::DiffDriveControl u = diff->step(truth_rng);
-      counted[0] += static_cast<double>(u.left_ticks) * count_factor();
-      counted[1] += static_cast<double>(u.right_ticks) * count_factor();
+    const est::sim::RobotStep step = robot->step(truth_rng);
+    double counted_step[4] = {0.0, 0.0, 0.0, 0.0};
+    for (std::uint8_t w = 0; w < step.wheels && w < 4; ++w) {
+      counted_step[w] = step.travel_ticks[w] * count_factor();
+      counted[w] += counted_step[w];
     }
+    if (odometry_base) {  // the exact arc of the counted travel (double: the base's own arithmetic)
+      const double l = counted_step[0] * s.metres_per_tick, r = counted_step[1] * s.metres_per_tick;
+      const double sd = 0.5 * (l + r), h = 0.5 * (r - l) * half_track_inv;
+      const double chord = std::fabs(h) < 1e-9 ? sd : sd * std::sin(h) / h;
+      odom_x += chord * std::cos(odom_theta + h);
+      odom_y += chord * std::sin(odom_theta + h);
+      odom_theta += 2.0 * h;
+    }
+    steer_true = step.steer_rad;
+    const float steer_cmd = step.steer_rad;
     const est::Pose2 next = pose();
     s.truth.back().v_mps = std::hypot(next.x - p.x, next.y - p.y) / kSimStepS;
     s.truth.back().omega_rps = wrap(next.theta - p.theta) / kSimStepS;
+
+    // Twist: the command of this step, held until the next sample.
+    if (twists.count > 0 && k % twist_div == 0 && !silent) {
+      emit(twists, twist_faults, k / twist_div, t, [&](hal::TimeNs stamp) {
+        StreamEvent e;
+        e.kind = StreamKind::twist;
+        e.twist = {stamp, step.v1_mps, step.v2_mps, step.w_rps};
+        return e;
+      });
+    }
 
     // Steering: the wheel angle held over this step, with the sensor's bias and noise.
     if (bicycle && k % steer_div == 0) {
       const float measured = steer_cmd + static_cast<float>(c.steering_bias_deg * kPi / 180.0) +
                              est::sample_normal(odo_rng, static_cast<float>(c.steering_sigma_deg * kPi / 180.0));
-      if (!silent)
+      if (!silent && steering.count > 0)
         emit(steering, steer_faults, k / steer_div, t, [&](hal::TimeNs stamp) {
           StreamEvent e;
           e.kind = StreamKind::steering;
@@ -466,7 +551,9 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
 
     // The scan from this step's pose (always drawn, so the noise does not depend on the fault plan).
     if (k % scan_div == 0) {
-      est::sim::simulate_scan(world.grid, p, s.mount, layout, c.range_noise, range_rng, ranges);
+      // On the handlebar the sensor turns with the steering (its angle over the step that starts here).
+      const est::Pose2 mount = c.handlebar ? est::steered_sensor_mount(c.handlebar_mount, steer_true) : s.mount;
+      est::sim::simulate_scan(world.grid, p, mount, layout, c.range_noise, range_rng, ranges);
       if (!silent) {
         emit(scans, scan_faults, k / scan_div, t, [&](hal::TimeNs stamp) {
           ScanRecord r;

@@ -1,5 +1,5 @@
-// The host simulation run: stream -> hal::ValidatedInputs -> hal::LoopPort -> est::loop::FilterLoop(MclEstimator or
-// EkfEstimator, chosen through est::loop::ConfiguredLoop).
+// The host simulation run: stream -> the estimator pipeline (node/estimator_pipeline.hpp: hal::ValidatedInputs ->
+// hal::LoopPort -> est::loop::FilterLoop with the run's model, filter and range model) -> the metrics.
 #include "sim/simulate.hpp"
 
 #include <algorithm>
@@ -7,26 +7,15 @@
 #include <cmath>
 #include <memory>
 #include <stdexcept>
-#include <type_traits>
 
-#include "est/filter/free_space_sampler.hpp"
-#include "est/loop/configured_loop.hpp"
-#include "est/motion/bicycle_model.hpp"
-#include "est/motion/diff_drive_model.hpp"
-#include "est/sensor/likelihood_field_range_finder_model.hpp"
 #include "hal/estimate.hpp"
 #include "hal/status_word.hpp"
-#include "hal/validated_inputs.hpp"
+#include "node/estimator_pipeline.hpp"
 
 namespace sim {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-// Capacities, as estimator_node's (hal/tools/node_config.hpp) but room for 1440 beams.
-constexpr std::uint32_t kMaxParticles = 20000;
-constexpr std::int32_t kMaxBeams = 1440;
-constexpr std::uint32_t kQueueCapacity = 256;
-constexpr std::uint32_t kScanSlots = 4;
 constexpr std::uint32_t kSnapshotPoints = 4000;
 
 float wrap(float a) { return std::remainder(a, 6.28318530717958647692f); }
@@ -48,103 +37,35 @@ struct WallClock final : hal::Clock {
   }
 };
 
-template <typename Model>
-typename Model::Params filter_params(const RobotModels& m);
-template <>
-est::BicycleParams filter_params<est::BicycleMotionModel>(const RobotModels& m) { return m.bicycle_filter; }
-template <>
-est::DiffDriveParams filter_params<est::DiffDriveMotionModel>(const RobotModels& m) { return m.diff_filter; }
-
 // Every n-th particle, at most kSnapshotPoints.
-template <typename Estimator>
-ParticleSnapshot snapshot(const Estimator& estimator, hal::TimeNs t, const std::string& label, const est::Pose2& truth,
-                          const est::Pose2& estimate) {
-  const est::ConstParticleSetView p = estimator.filter().particles();
+ParticleSnapshot snapshot(const node::EstimatorPipeline& p, hal::TimeNs t, const std::string& label,
+                          const est::Pose2& truth, const est::Pose2& estimate) {
+  const est::ConstParticleSetView v = p.particles();
   ParticleSnapshot snap;
   snap.t_ns = t;
   snap.label = label;
-  snap.total = p.count;
+  snap.total = v.count;
   snap.truth = truth;
   snap.estimate = estimate;
-  const std::uint32_t step = std::max<std::uint32_t>(1u, (p.count + kSnapshotPoints - 1u) / kSnapshotPoints);
-  for (std::uint32_t i = 0; i < p.count; i += step) snap.particles.push_back({p.x[i], p.y[i], p.theta[i]});
+  const std::uint32_t step = std::max<std::uint32_t>(1u, (v.count + kSnapshotPoints - 1u) / kSnapshotPoints);
+  for (std::uint32_t i = 0; i < v.count; i += step) snap.particles.push_back({v.x[i], v.y[i], v.theta[i]});
   return snap;
 }
 
-// The map models MCL needs (the EKF needs only the world's landmarks).
-struct MclMapModels {
-  est::LikelihoodField field;
-  est::FreeSpaceSampler free_space;
-};
-
-template <typename Model, est::loop::Filter F>
-void run_model(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorld& world, SimResult& r) {
-  // The firmware's static configuration of a run: the model and the filter, estimator_node's capacities with room
-  // for 1440 beams, the loop's default rates and limits.
-  using Configured =
-      est::loop::ConfiguredLoop<est::loop::LoopConfig<Model, F, kMaxParticles, kMaxBeams, kQueueCapacity, kScanSlots>>;
-  using Estimator = typename Configured::Estimator;
-  using Loop = typename Configured::Loop;
-  using Port = hal::LoopPort<Estimator, kQueueCapacity, kMaxBeams, kScanSlots>;
-  static_assert(std::is_same_v<typename Port::Loop, Loop>, "one loop type");
-  constexpr bool kMcl = F == est::loop::Filter::mcl;
+void run_stream(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorld& world, SimResult& r) {
   const SensorStream& s = r.stream;
-
-  typename Configured::EstimatorConfig ec;
-  ec.motion = filter_params<Model>(robot_models());
-  ec.odometry = est::loop::OdometryControl<Model>::config(static_cast<float>(s.metres_per_tick));
-  std::unique_ptr<MclMapModels> maps;
-  std::unique_ptr<Estimator> estimator;
-  if constexpr (kMcl) {
-    // The models of the map, as the node builds them.
-    maps = std::make_unique<MclMapModels>();
-    est::LikelihoodFieldParams lp;
-    lp.z_hit = 0.85f;
-    lp.z_max = 0.05f;
-    lp.z_rand = 0.10f;
-    lp.sigma_hit = 0.2f;
-    lp.range_max = static_cast<float>(sc.range_max_m);
-    lp.max_distance = 2.0f;
-    if (maps->field.configure(lp, world.grid, world.edt) != est::SensorModelStatus::ok)
-      throw std::runtime_error("the likelihood field could not be configured for this map");
-    maps->free_space = est::FreeSpaceSampler(world.grid, world.edt, fo.clearance_m);
-    if (!maps->free_space.valid()) throw std::runtime_error("the map has no valid free space");
-
-    ec.mcl.kld = fo.kld;
-    ec.mcl.kld_config.n_min = fo.kld_min;
-    ec.mcl.alpha_slow = fo.alpha_slow;
-    ec.mcl.alpha_fast = fo.alpha_fast;
-    ec.mcl.max_injection_fraction = fo.max_injection;
-    ec.sensor_mount = s.mount;
-    ec.beam_stride = fo.beam_stride;
-    ec.cluster_cell = 1.0f;
-
-    if (fo.particles == 0 || fo.particles > kMaxParticles)
-      throw std::invalid_argument("--particles must be in [1, " + std::to_string(kMaxParticles) + "]");
-    estimator = std::make_unique<Estimator>(ec, sc.seed, maps->field, maps->free_space);
-    if (fo.start == StartKind::global)
-      estimator->initialize_global(fo.particles);
-    else
-      estimator->initialize_at(s.truth.front().pose, 0.2f, 0.1f, fo.particles);
-  } else {
-    // The filter is told the sensor's own noise; the heading noise added per prediction covers what the odometry
-    // model leaves out (the encoders' scale error and slip turn the robot where the model says it drove straight).
-    ec.noise = sc.landmark_sensor.noise;
-    ec.ekf.additive_process_noise(2, 2) = fo.ekf_rot_sigma_rad * fo.ekf_rot_sigma_rad;
-    ec.lost_sigma_m = fo.ekf_lost_sigma_m;
-    estimator = std::make_unique<Estimator>(ec, world.landmarks);
-    if (!estimator->initialize_at(s.truth.front().pose, fo.ekf_start_sigma_xy_m, fo.ekf_start_sigma_theta_rad))
-      throw std::invalid_argument("the EKF's start sigmas must be finite and positive");
-  }
-
-  auto loop = std::make_unique<Loop>(*estimator, Configured::kTiming);
-  WallClock wall;
-  ArrivalClock arrival;
+  const bool mcl = fo.filter == est::loop::Filter::mcl;
+  const node::EstimatorSpec spec = estimator_spec(sc, fo, s);
+  node::EstimatorMaps maps;
+  maps.grid = world.grid;
+  maps.edt = world.edt;
+  maps.landmarks = world.landmarks;
+  maps.description = world.name;
 
   // Snapshots of the particle cloud at fixed times of the run (MCL).
   std::vector<std::pair<hal::TimeNs, std::string>> snap_at;
   const hal::TimeNs t0 = s.truth.front().t_ns, dt = kSimStepNs;
-  if constexpr (kMcl) {
+  if (mcl) {
     snap_at.push_back({t0, "first scan"});
     snap_at.push_back({t0 + hal::kNsPerS, "1 s"});
     snap_at.push_back({t0 + 3 * hal::kNsPerS, "3 s"});
@@ -161,10 +82,11 @@ void run_model(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorld
   std::size_t next_snap = 0;
 
   struct Sink final : hal::EstimateSink {
-    SimResult* r;
-    const Estimator* est;
-    std::vector<std::pair<hal::TimeNs, std::string>>* snap_at;
-    std::size_t* next_snap;
+    SimResult* r = nullptr;
+    const node::EstimatorPipeline* pipeline = nullptr;
+    bool mcl = false;
+    std::vector<std::pair<hal::TimeNs, std::string>>* snap_at = nullptr;
+    std::size_t* next_snap = nullptr;
     void publish(const hal::Estimate& e) override {
       OutputRow row;
       row.t_ns = e.stamp_ns;
@@ -176,55 +98,55 @@ void run_model(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorld
       row.sigma_y_m = std::sqrt(std::max(0.0f, e.covariance(1, 1)));
       row.sigma_theta_rad = std::sqrt(std::max(0.0f, e.covariance(2, 2)));
       row.cov_xy_m2 = e.covariance(0, 1);
-      if constexpr (kMcl) row.particles = est->filter().particles().count;
+      if (mcl) row.particles = pipeline->particles().count;
       row.status = e.status & ~hal::status::kDeadlineOverrun;
       row.rejected_inputs = e.rejected_inputs;
       r->rows.push_back(row);
-      if constexpr (kMcl) {
+      if (mcl) {
         while (*next_snap < snap_at->size() && e.stamp_ns >= (*snap_at)[*next_snap].first) {
-          r->snapshots.push_back(snapshot(*est, e.stamp_ns, (*snap_at)[*next_snap].second, row.truth, row.estimate));
+          r->snapshots.push_back(snapshot(*pipeline, e.stamp_ns, (*snap_at)[*next_snap].second, row.truth, row.estimate));
           ++*next_snap;
         }
       }
     }
   } sink;
   sink.r = &r;
-  sink.est = estimator.get();
+  sink.mcl = mcl;
   sink.snap_at = &snap_at;
   sink.next_snap = &next_snap;
 
-  if constexpr (kMcl)  // the initial belief, before any input
-    r.snapshots.push_back(snapshot(*estimator, t0, "initial belief", s.truth.front().pose, estimator->estimate().mean));
-  Port port(*loop, wall, sink);
-  hal::ValidatedInputs inputs(s.limits, arrival, port);
+  WallClock wall;
+  ArrivalClock arrival;
+  const std::unique_ptr<node::EstimatorPipeline> pipeline = node::make_estimator_pipeline(spec, maps, arrival, wall, sink);
+  sink.pipeline = pipeline.get();
+  if (mcl)  // the initial belief, before any input
+    r.snapshots.push_back(snapshot(*pipeline, t0, "initial belief", s.truth.front().pose, pipeline->estimate().mean));
   r.rows.reserve(static_cast<std::size_t>((s.end_ns - t0) / dt) + s.scans.size() + s.sightings.size() + 16);
+  hal::SensorPort& in = pipeline->input();
   for (const StreamEvent& e : s.events) {
     arrival.now = e.arrival_ns;
     switch (e.kind) {
-      case StreamKind::wheel_ticks: inputs.on_wheel_ticks(e.ticks); break;
-      case StreamKind::steering: inputs.on_steering(e.steering); break;
-      case StreamKind::scan: inputs.on_range_scan(s.scans[e.scan].view()); break;
-      case StreamKind::landmarks: inputs.on_landmarks(s.sightings[e.sighting].view()); break;
+      case StreamKind::wheel_ticks: in.on(e.ticks); break;
+      case StreamKind::steering: in.on(e.steering); break;
+      case StreamKind::twist: in.on(e.twist); break;
+      case StreamKind::odometry: in.on(e.odometry); break;
+      case StreamKind::scan: in.on(s.scans[e.scan].view()); break;
+      case StreamKind::landmarks: in.on(s.sightings[e.sighting].view()); break;
     }
-    port.set_upstream_rejects(inputs.faults().total());
+    pipeline->refresh(0, 0);
   }
-  port.flush();
+  pipeline->flush();
 
-  r.wheel_faults = inputs.wheels().faults();
-  r.steering_faults = inputs.steering().faults();
-  r.scan_faults = inputs.scan().faults();
-  r.landmark_faults = inputs.landmarks().faults();
-  r.landmark_features_accepted = inputs.landmarks().features_accepted();
-  r.beams = inputs.scan().beams();
-  r.loop = loop->counters();
-  r.port_rejects = port.rejects();
-  if constexpr (kMcl) {
-    r.mcl = estimator->filter().counters();
-  } else {
-    r.ekf = estimator->filter().counters();
-    r.ekf_predictions = estimator->filter().prediction_counters();
-  }
-  r.nonfinite_estimates = port.nonfinite_estimates();
+  pipeline->gate().for_each_sensor([&](const char* name, const hal::FaultCounters& f) { r.sensor_faults[name] = f; });
+  r.landmark_features_accepted = pipeline->gate().landmarks().features_accepted();
+  r.beams = pipeline->gate().scan().beams();
+  r.loop = pipeline->loop_counters();
+  r.port_rejects = pipeline->port_rejects();
+  if (const est::MclCounters* m = pipeline->mcl_counters()) r.mcl = *m;
+  if (const est::CorrectionCounters* c = pipeline->ekf_counters()) r.ekf = *c;
+  if (const est::PredictionCounters* p = pipeline->ekf_prediction_counters()) r.ekf_predictions = *p;
+  r.nonfinite_estimates = pipeline->nonfinite_estimates();
+  r.description = pipeline->description();
 }
 
 // The first row in [from, to) from which the error stays within the bounds for `hold` (or to `to`); rows.size() if
@@ -309,18 +231,56 @@ SimMetrics compute_metrics(const SimResult& r, const FilterOptions& fo) {
 
 }  // namespace
 
+// The estimator of a run, as estimator_node would be configured for this robot (sim_host record writes the same
+// options for a replay).
+node::EstimatorSpec estimator_spec(const ScenarioConfig& sc, const FilterOptions& fo, const SensorStream& s) {
+  node::EstimatorSpec e;
+  e.model = sc.robot;
+  e.filter = fo.filter;
+  e.range_model = fo.range_model;
+  e.motion = robot_models().filter;
+  e.motion.bicycle_control.metres_per_tick = static_cast<float>(s.metres_per_tick);
+  e.motion.bicycle_control.steering_fitted = sc.steering_sensor;
+  e.motion.bicycle_control.unknown_steer_sigma = fo.unknown_steer_sigma_rad;
+  e.sensor_mount = s.mount;
+  e.steered.mount = sc.handlebar_mount;
+  e.steered.steer_max = e.motion.bicycle.steer_max;
+  e.steered.positions = fo.handle_positions;
+  e.steered.reading_sigma = fo.handle_reading_sigma_rad;
+  e.field = {0.85f, 0.05f, 0.10f, 0.2f, static_cast<float>(sc.range_max_m), 2.0f};
+  e.beam.range_max = static_cast<float>(sc.range_max_m);
+  e.beam_stride = fo.beam_stride;
+  e.mcl.kld = fo.kld;
+  e.mcl.kld_config.n_min = fo.kld_min;
+  e.mcl.alpha_slow = fo.alpha_slow;
+  e.mcl.alpha_fast = fo.alpha_fast;
+  e.mcl.max_injection_fraction = fo.max_injection;
+  e.particles = fo.particles;
+  e.seed = sc.seed;
+  e.clearance_m = fo.clearance_m;
+  e.cluster_cell_m = 1.0f;
+  e.global = fo.filter == est::loop::Filter::mcl && fo.start == StartKind::global;
+  e.initial_pose = s.truth.front().pose;
+  const bool ekf = fo.filter == est::loop::Filter::ekf;
+  e.initial_sigma_xy_m = ekf ? fo.ekf_start_sigma_xy_m : 0.2f;
+  e.initial_sigma_theta_rad = ekf ? fo.ekf_start_sigma_theta_rad : 0.1f;
+  // The filter is told the sensor's own noise; the heading noise added per prediction covers what the motion model
+  // leaves out (the encoders' scale error and slip turn the robot where the model says it drove straight).
+  e.landmark_noise = sc.landmark_sensor.noise;
+  e.ekf_rot_sigma = fo.ekf_rot_sigma_rad;
+  e.lost_sigma_m = fo.ekf_lost_sigma_m;
+  e.limits = s.limits;
+  return e;
+}
+
 std::map<std::string, int> SimResult::observed_counts() const {
   std::map<std::string, int> out;
   const auto add = [&](const std::string& key, std::uint64_t v) {
     if (v > 0) out[key] += static_cast<int>(v);
   };
-  const std::pair<const char*, const hal::FaultCounters*> kinds[] = {{"wheel_ticks", &wheel_faults},
-                                                                      {"steering", &steering_faults},
-                                                                      {"scan", &scan_faults},
-                                                                      {"landmarks", &landmark_faults}};
-  for (const auto& [name, c] : kinds)
+  for (const auto& [name, c] : sensor_faults)
     for (std::size_t i = 1; i < hal::kFaultCount; ++i)
-      add(std::string("hal.") + name + "." + hal::to_string(static_cast<hal::Fault>(i)), c->count[i]);
+      add(std::string("hal.") + name + "." + hal::to_string(static_cast<hal::Fault>(i)), c.count[i]);
   add("hal.scan.beams_nan", beams.not_a_number);
   add("hal.scan.beams_below_min", beams.below_min);
   add("loop.too_old", loop.too_old);
@@ -333,8 +293,6 @@ std::map<std::string, int> SimResult::observed_counts() const {
     add(std::string("port.") + hal::to_string(static_cast<hal::LoopPortReject>(i)), port_rejects.count[i]);
   return out;
 }
-
-const char* to_string(est::loop::Filter f) { return f == est::loop::Filter::ekf ? "ekf" : "mcl"; }
 
 SimResult run_simulation(const ScenarioConfig& scenario, const FilterOptions& filter, const SimWorld& world) {
   const auto started = std::chrono::steady_clock::now();
@@ -350,18 +308,7 @@ SimResult run_simulation(const ScenarioConfig& scenario, const FilterOptions& fi
   r.stream = generate_stream(scenario, world);
   if (r.stream.truth.empty()) throw std::invalid_argument("the run has no steps");
   expect_loop_inputs(r.stream, !ekf, ekf);
-  using est::loop::Filter;
-  if (scenario.robot == RobotKind::bicycle) {
-    if (ekf)
-      run_model<est::BicycleMotionModel, Filter::ekf>(scenario, filter, world, r);
-    else
-      run_model<est::BicycleMotionModel, Filter::mcl>(scenario, filter, world, r);
-  } else {
-    if (ekf)
-      run_model<est::DiffDriveMotionModel, Filter::ekf>(scenario, filter, world, r);
-    else
-      run_model<est::DiffDriveMotionModel, Filter::mcl>(scenario, filter, world, r);
-  }
+  run_stream(scenario, filter, world, r);
   r.metrics = compute_metrics(r, filter);
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return r;

@@ -46,8 +46,12 @@ void add_scenario_options(CLI::App* c, ScenarioOptions& o) {
   c->add_option("--route", o.route,
                 "waypoints 'x,y;x,y;...' in the map frame, visited in a loop (required with --map; default: the "
                 "office's 24.7 m route)");
-  c->add_option("--robot", o.robot, "bicycle (front-wheel referenced, traction encoder + steering) or diff-drive")
-      ->check(CLI::IsMember({"bicycle", "diff-drive"}))
+  c->add_option("--robot", o.robot,
+                "the robot, one per motion model: bicycle (front-wheel referenced, traction encoder + steering), "
+                "diff-drive (two wheel encoders), velocity (a unicycle sending its commanded twist v, w), odometry (a "
+                "diff-drive base sending the pose it integrates), omni (a mecanum base moving sideways, four wheel "
+                "encoders), holonomic (x and y driven independently, never turning, sending its twist u_x, u_y)")
+      ->check(CLI::IsMember({"bicycle", "diff-drive", "velocity", "odometry", "omni", "holonomic"}))
       ->capture_default_str();
   c->add_option("--duration", s.duration_s, "simulated time, s")->capture_default_str();
   c->add_option("--speed", s.speed_mps, "cruise speed, m/s")->capture_default_str();
@@ -56,6 +60,8 @@ void add_scenario_options(CLI::App* c, ScenarioOptions& o) {
   c->add_option("--seed", s.seed, "seed of every random draw (same seed: identical outputs)")->capture_default_str();
   c->add_option("--encoder-hz", s.encoder_hz, "encoder sample rate (divides 100)")->capture_default_str();
   c->add_option("--steering-hz", s.steering_hz, "steering sample rate (bicycle)")->capture_default_str();
+  c->add_option("--twist-hz", s.twist_hz, "twist rate (velocity and holonomic robots)")->capture_default_str();
+  c->add_option("--odometry-hz", s.odometry_hz, "odometry pose rate (odometry base)")->capture_default_str();
   c->add_option("--scan-hz", s.scan_hz, "rangefinder scan rate")->capture_default_str();
   c->add_option("--beams", s.beams, "beams per scan")->capture_default_str();
   c->add_option("--fov-deg", s.fov_deg, "field of view, deg (360: a full turn, beams at 360/beams deg)")
@@ -74,6 +80,16 @@ void add_scenario_options(CLI::App* c, ScenarioOptions& o) {
   c->add_option("--slip-factor", s.slip_factor, "extra travel counted while slipping")->capture_default_str();
   c->add_option("--steering-sigma-deg", s.steering_sigma_deg, "steering sensor noise, deg")->capture_default_str();
   c->add_option("--steering-bias-deg", s.steering_bias_deg, "steering sensor bias, deg")->capture_default_str();
+  c->add_option_function<std::string>(
+       "--steering-sensor", [&s](const std::string& v) { s.steering_sensor = v == "present"; },
+       "bicycle: present, or absent (no steering stream; the filter takes the steering as unknown)")
+      ->check(CLI::IsMember({"present", "absent"}))->default_str("present");
+  c->add_option("--handle-detents", s.handle_detents,
+                "bicycle: the handlebar has this many positions from stop to stop and the steering snaps to the "
+                "nearest (the exercise's handlebar; 0: continuous)")->capture_default_str();
+  c->add_flag("--handlebar", s.handlebar,
+              "bicycle: the rangefinder sits on the handlebar (0.15 m ahead of the steering axis at the front wheel), "
+              "so its pose follows the true steering angle");
   c->add_option("--landmark-hz", s.landmark_hz,
                 "landmark sensor rate (divides 100); sightings of the world's landmarks in range, field of view and "
                 "line of sight (the office's 16 posts; a ROS map has none)")
@@ -125,13 +141,15 @@ std::vector<est::sim::Waypoint> parse_route(const std::string& text) {
 
 ScenarioConfig finish_scenario(ScenarioOptions& o) {
   ScenarioConfig s = o.config;
-  s.robot = o.robot == "diff-drive" ? RobotKind::diff_drive : RobotKind::bicycle;
+  if (!parse(o.robot, s.robot)) throw CLI::ValidationError("--robot", "unknown robot '" + o.robot + "'");
+  if (s.handlebar && s.robot != RobotKind::bicycle)
+    throw CLI::ValidationError("--handlebar", "the handlebar is the bicycle's (--robot bicycle)");
   if (!o.route.empty()) s.route = parse_route(o.route);
   s.range_noise = {static_cast<float>(o.range_sigma), static_cast<float>(o.p_rand), static_cast<float>(o.p_short)};
   if (!(o.range_sigma > 0.0) || o.p_rand < 0.0 || o.p_short < 0.0 || o.p_rand + o.p_short > 1.0)
     throw CLI::ValidationError("--range-sigma/--p-rand/--p-short", "sigma > 0, probabilities >= 0 summing to <= 1");
   s.landmark_ids_known = o.landmark_ids == "known";
-  s.faults = o.plan == "default" ? default_fault_counts(s.robot, s.map_yaml.empty()) : FaultCounts{};
+  s.faults = o.plan == "default" ? default_fault_counts(s.robot, s.map_yaml.empty(), s.steering_sensor) : FaultCounts{};
   for (const std::string& f : o.fault_overrides) {
     const std::size_t eq = f.find('=');
     if (eq == std::string::npos) throw CLI::ValidationError("--fault", "expected KEY=COUNT, got '" + f + "'");
@@ -152,8 +170,7 @@ std::string num(const char* f, double v) {
 
 void print_summary(const SimResult& r, const ScenarioConfig& sc, const SimWorld& w, const std::string& out) {
   const SimMetrics& m = r.metrics;
-  std::cout << "simulate (" << (r.filter == est::loop::Filter::ekf ? "EKF on landmarks" : "MCL on scans")
-            << "): " << to_string(sc.robot) << " in " << w.name << ", " << num("%.1f", sc.duration_s)
+  std::cout << "simulate (" << r.description << "): " << to_string(sc.robot) << " in " << w.name << ", " << num("%.1f", sc.duration_s)
             << " s, seed " << sc.seed << ": " << r.rows.size() << " estimates in " << num("%.1f", r.wall_s) << " s ("
             << num("%.1f", sc.duration_s / std::max(r.wall_s, 1e-9)) << "x real time)\n";
   for (const PhaseMetrics& p : m.phases) {
@@ -186,10 +203,11 @@ void print_summary(const SimResult& r, const ScenarioConfig& sc, const SimWorld&
               << e << (e == o ? "" : "   <-- MISMATCH") << "\n";
   }
   std::cout << "  every injected fault counted with its reason: " << (match ? "yes" : "NO") << "\n";
-  std::cout << "  loop: " << r.loop.predictions << " predictions, " << r.loop.corrections << " corrections, "
-            << r.loop.encoder_timeouts << " outputs with stale encoders, " << r.loop.scan_timeouts
-            << " with stale scans; worst step " << num("%.2f", static_cast<double>(r.loop.worst_step_ns) * 1e-6)
-            << " ms (wall clock)\n";
+  std::cout << "  loop: " << r.loop.predictions << " predictions, " << r.loop.corrections << " corrections; outputs "
+               "with stale inputs:";
+  for (const est::loop::InputKindInfo& k : est::loop::kInputKinds)
+    if (r.loop.of(k.kind).accepted > 0 || r.loop.of(k.kind).stale > 0) std::cout << " " << k.name << " " << r.loop.of(k.kind).stale;
+  std::cout << "; worst step " << num("%.2f", static_cast<double>(r.loop.worst_step_ns) * 1e-6) << " ms (wall clock)\n";
   std::cout << "  outputs in " << out << "/\n";
 }
 
@@ -224,6 +242,18 @@ void add_simulate_command(CLI::App& app) {
                 "for MCL, tracking for the EKF")
       ->check(CLI::IsMember({"global", "tracking"}));
   c->add_option("--particles", filter->particles, "initial particles (at most 20000)")->capture_default_str();
+  c->add_option_function<std::string>(
+       "--sensor-model", [filter](const std::string& v) { node::parse(v, filter->range_model); },
+       "MCL's range model: likelihood-field (Thrun table 6.3), beam (table 6.1, z* from a heading range table), or "
+       "steered (the bicycle's handlebar rangefinder, marginalized over --handle-positions; with --handlebar)")
+      ->check(CLI::IsMember({"likelihood-field", "beam", "steered"}))->default_str("likelihood-field");
+  c->add_option("--handle-positions", filter->handle_positions,
+                "steered: handle positions across the steering stops (0: the steering reading taken as exact)")
+      ->capture_default_str()->check(CLI::Range(0, 16));
+  c->add_option("--handle-reading-sigma", filter->handle_reading_sigma_rad,
+                "steered: how far the filter trusts the steering reading, rad")->capture_default_str();
+  c->add_option("--unknown-steer-sigma", filter->unknown_steer_sigma_rad,
+                "bicycle without a steering sensor: the steering noise of the prediction, rad")->capture_default_str();
   c->add_flag("--no-kld", *no_kld, "keep the particle count fixed (default: KLD-sampling adapts it)");
   c->add_option("--kld-min", filter->kld_min, "KLD-sampling's minimum count")->capture_default_str();
   c->add_option("--beam-stride", filter->beam_stride, "the filter uses every n-th beam")->capture_default_str();

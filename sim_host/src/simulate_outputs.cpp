@@ -351,7 +351,10 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
                    {"speed_mps", sc.speed_mps},
                    {"route_waypoints", w.route->size()},
                    {"encoder_hz", sc.encoder_hz},
-                   {"steering_hz", sc.robot == RobotKind::bicycle ? sc.steering_hz : 0},
+                   {"steering_hz", sc.robot == RobotKind::bicycle && sc.steering_sensor ? sc.steering_hz : 0},
+                   {"twist_hz", has_twist(sc.robot) ? sc.twist_hz : 0},
+                   {"odometry_hz", has_odometry(sc.robot) ? sc.odometry_hz : 0},
+                   {"rangefinder", sc.handlebar ? "on the handlebar" : "fixed"},
                    {"scan_hz", sc.scan_hz},
                    {"beams", sc.beams},
                    {"fov_deg", sc.fov_deg},
@@ -372,6 +375,7 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
   const bool ekf = r.filter == est::loop::Filter::ekf;
   if (ekf)
     j["filter"] = {{"kind", "ekf"},
+                   {"estimator", r.description},
                    {"description", "EKF localization on landmark features (Thrun table 7.2 with known "
                                    "correspondences, table 7.3 by maximum likelihood when the id is unknown)"},
                    {"start", "tracking"},
@@ -383,6 +387,9 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
                    {"localized_bound", bound}};
   else
     j["filter"] = {{"kind", "mcl"},
+                   {"estimator", r.description},
+                   {"range_model", node::to_string(fo.range_model)},
+                   {"handle_positions", fo.range_model == node::RangeModel::steered ? fo.handle_positions : 0},
                    {"start", fo.start == StartKind::global ? "global" : "tracking"},
                    {"particles", fo.particles},
                    {"kld", fo.kld},
@@ -435,12 +442,9 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
                  {"every_injected_fault_counted_with_its_reason", match},
                  {"list", "faults.csv"}};
   ordered hal_counts;
-  const std::pair<const char*, const hal::FaultCounters*> kinds[] = {
-      {"wheel_ticks", &r.wheel_faults}, {"steering", &r.steering_faults}, {"scan", &r.scan_faults},
-      {"landmarks", &r.landmark_faults}};
-  for (const auto& [name, c] : kinds) {
+  for (const auto& [name, c] : r.sensor_faults) {
     ordered k = ordered::object();
-    for (std::size_t i = 1; i < hal::kFaultCount; ++i) k[hal::to_string(static_cast<hal::Fault>(i))] = c->count[i];
+    for (std::size_t i = 1; i < hal::kFaultCount; ++i) k[hal::to_string(static_cast<hal::Fault>(i))] = c.count[i];
     hal_counts[name] = k;
   }
   hal_counts["scan_beams"] = {{"hits", r.beams.hits},
@@ -449,6 +453,9 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
                               {"below_min", r.beams.below_min}};
   hal_counts["landmark_features_accepted"] = r.landmark_features_accepted;
   j["hal"] = hal_counts;
+  ordered stale = ordered::object();  // outputs published while an input kind the filter uses was stale
+  for (const est::loop::InputKindInfo& k : est::loop::kInputKinds)
+    if (r.loop.of(k.kind).accepted > 0 || r.loop.of(k.kind).stale > 0) stale[k.name] = r.loop.of(k.kind).stale;
   j["loop"] = {{"inputs", r.loop.inputs},
                {"too_old", r.loop.too_old},
                {"queue_full", r.loop.queue_full},
@@ -456,10 +463,7 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
                {"predictions", r.loop.predictions},
                {"corrections", r.loop.corrections},
                {"degenerate", r.loop.degenerate},
-               {"encoder_timeouts", r.loop.encoder_timeouts},
-               {"steering_timeouts", r.loop.steering_timeouts},
-               {"scan_timeouts", r.loop.scan_timeouts},
-               {"landmark_timeouts", r.loop.landmark_timeouts},
+               {"stale_outputs", stale},
                {"unused", r.loop.unused},
                {"outputs", r.rows.size()},
                {"nonfinite_estimates", r.nonfinite_estimates}};

@@ -12,17 +12,24 @@
 #include "est/map/distance_transform.hpp"
 #include "est/map/landmark_map.hpp"
 #include "est/map/occupancy_grid.hpp"
+#include "est/sensor/steered_range_finder.hpp"
+#include "node/estimator_spec.hpp"
 #include "world/landmark_sensor.hpp"
 #include "world/range_sensor.hpp"
+#include "world/robots.hpp"
 #include "world/route.hpp"
 
 namespace sim {
 
-enum class RobotKind { bicycle, diff_drive };
+// One robot per motion model (sim_host/world/robots.hpp); the names are estimator_node's --model names.
+using RobotKind = est::sim::RobotKind;
+inline constexpr RobotKind kRobots[] = {RobotKind::bicycle,  RobotKind::diff_drive, RobotKind::velocity,
+                                        RobotKind::odometry, RobotKind::omni,       RobotKind::holonomic};
 enum class StartKind { global, tracking };
 
 // Injected faults by stream and class, e.g. {"scan.stale", 2}. Keys: <stream>.<class> with stream in wheel_ticks,
-// steering, scan, landmarks; fault_catalogue() lists every key with what it does and how the HAL or the loop must count it.
+// steering, twist, odometry, scan, landmarks; fault_catalogue() lists every key with what it does and how the HAL or
+// the loop must count it.
 using FaultCounts = std::map<std::string, int>;
 
 struct FaultClassInfo {
@@ -31,10 +38,19 @@ struct FaultClassInfo {
   std::string expected;  // the counter that must move by one per injection ("-" when none must)
 };
 const std::vector<FaultClassInfo>& fault_catalogue();
-// The plan of the default 60 s scenario: 58 faults for the bicycle (41 without a steering sensor), ~1 per second,
-// and 13 more in the landmark sightings when the world has landmarks. (No landmarks.time_backwards: at the
-// sensor's rates a stamp before the previous sighting's is already older than the HAL's staleness limit.)
-FaultCounts default_fault_counts(RobotKind robot, bool landmarks = true);
+// The plan of the default 60 s scenario, ~1 fault per second in each of the robot's streams: 58 for the bicycle (41
+// without a steering sensor), and 13 more in the landmark sightings when the world has landmarks. (No
+// landmarks.time_backwards: at the sensor's rates a stamp before the previous sighting's is already older than the
+// HAL's staleness limit.)
+FaultCounts default_fault_counts(RobotKind robot, bool landmarks = true, bool steering_sensor = true);
+
+// The streams a robot has: encoders (bicycle, diff drive, omni base), steering (the bicycle, when fitted), twist
+// (the velocity and holonomic robots' commands), odometry (the odometry base's integrated pose).
+bool has_wheel_ticks(RobotKind r);
+bool has_twist(RobotKind r);
+bool has_odometry(RobotKind r);
+// Whether fault class `key` (<stream>.<class>) can be injected into this robot's streams.
+bool fault_applies(RobotKind r, const std::string& key, bool steering_sensor = true, bool landmarks = true);
 
 struct ScenarioConfig {
   // World.
@@ -49,6 +65,8 @@ struct ScenarioConfig {
   // Sensors (rates in Hz; they must divide the 100 Hz simulation step).
   int encoder_hz = 100;
   int steering_hz = 50;
+  int twist_hz = 50;
+  int odometry_hz = 50;
   int scan_hz = 10;
   int beams = 360;
   double fov_deg = 360.0;
@@ -61,6 +79,12 @@ struct ScenarioConfig {
   double slip_factor = 0.3;
   double steering_sigma_deg = 0.5;
   double steering_bias_deg = 0.5;
+  bool steering_sensor = true;          // false: the bicycle has no steering sensor (no steering stream)
+  // The rangefinder on the bicycle's handlebar: its pose follows the true steering angle (the steering axis at the
+  // front wheel, the sensor 0.15 m ahead of it on the bar); otherwise fixed at the robot's reference point.
+  bool handlebar = false;
+  est::SteeredMount handlebar_mount{0.0f, 0.0f, {0.15f, 0.0f, 0.0f}};
+  std::int32_t handle_detents = 0;      // the handlebar's positions from stop to stop (0: continuous)
   // Landmark sensor (the world's landmark map; none in a ROS map): sightings at landmark_hz, each feature with its
   // map index (landmark_ids_known) or -1 (the filter associates by maximum likelihood, with the signature).
   int landmark_hz = 5;
@@ -85,6 +109,7 @@ struct SimWorld {
 // The office (shared, built once) or the ROS map of the config; throws on a bad map or route.
 SimWorld load_world(const ScenarioConfig& config);
 
-const char* to_string(RobotKind r);
+using node::parse;      // RobotKind by estimator_node's --model names
+using node::to_string;
 
 }  // namespace sim

@@ -11,21 +11,23 @@
 //
 // Random draws: each source has its own generator stream of the seed (truth 1, scans 2, odometry 3, faults 4,
 // landmark sightings 5, landmark faults 6), so adding or changing one stream never moves another's draws.
+//
+// Per robot (sim_host/world/robots.hpp): the bicycle sends its front (traction) and rear wheel counters and its
+// steering angle; the diff drive its two wheel counters; the omni base its four mecanum wheel counters; the
+// velocity and holonomic robots their commanded twist; the odometry base the pose it integrates from its (erring)
+// wheel counts. Every robot's rangefinder and landmark sensor are the same.
 #include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "est/geometry/pose2.hpp"
-#include "est/motion/bicycle_model.hpp"
-#include "est/motion/diff_drive_model.hpp"
-#include "hal/landmarks.hpp"
-#include "hal/range_scan.hpp"
-#include "hal/steering.hpp"
+#include "hal/samples.hpp"
 #include "hal/time.hpp"
 #include "hal/validated_inputs.hpp"
-#include "hal/wheel_ticks.hpp"
+#include "node/estimator_spec.hpp"
 #include "sim/scenario.hpp"
+#include "world/robots.hpp"
 
 namespace sim {
 
@@ -33,7 +35,7 @@ inline constexpr hal::TimeNs kSimStepNs = 10 * hal::kNsPerMs;
 inline constexpr hal::TimeNs kSimStartNs = hal::kNsPerS;
 inline constexpr unsigned kEncoderCounterBits = 32;  // as est_lcm::encoder_ticks_t and the LCM backend's default
 
-enum class StreamKind : std::uint8_t { wheel_ticks, steering, scan, landmarks };
+enum class StreamKind : std::uint8_t { wheel_ticks, steering, twist, odometry, scan, landmarks };
 const char* to_string(StreamKind k);
 
 struct StreamEvent {
@@ -41,6 +43,8 @@ struct StreamEvent {
   StreamKind kind = StreamKind::wheel_ticks;
   hal::WheelTicks ticks;
   hal::SteeringSample steering;
+  hal::TwistSample twist;
+  hal::OdometrySample odometry;
   std::size_t scan = 0;  // index into SensorStream::scans
   std::size_t sighting = 0;  // index into SensorStream::sightings
   int fault = -1;        // index into SensorStream::faults when this delivery carries an injected fault
@@ -86,8 +90,8 @@ struct SensorStream {
   hal::InputLimits limits;          // what the HAL gate of this robot is configured with
   hal::TimeNs kidnap_ns = -1;       // -1: none
   hal::TimeNs end_ns = 0;
-  est::Pose2 mount;                 // rangefinder in the robot frame
-  double metres_per_tick = 0.0;     // encoder resolution (the bicycle's traction wheel / each diff-drive wheel)
+  est::Pose2 mount;                 // rangefinder in the robot frame (on the handlebar: at steering 0)
+  double metres_per_tick = 0.0;     // encoder resolution (the bicycle's traction wheel / each wheel of the others)
   std::size_t route_waypoints = 0;
   std::size_t landmark_count = 0;   // landmarks in the world's map (0: no landmark sensor)
 
@@ -96,12 +100,14 @@ struct SensorStream {
   std::map<std::string, int> expected_counts() const;
 };
 
-// Robot parameters of the scenarios: the truth's noise, and what the filter is told (larger).
+// Robot parameters of the scenarios: the truth's noise, and what the filter is told (larger), for every model.
 struct RobotModels {
-  est::BicycleParams bicycle_truth, bicycle_filter;
-  est::DiffDriveParams diff_truth, diff_filter;
+  est::sim::RobotTruth truth;
+  node::MotionSpec filter;
 };
 RobotModels robot_models();
+// The encoder resolution of each robot that has encoders (m per tick).
+double metres_per_tick(RobotKind r);
 
 // Throws std::invalid_argument on a bad configuration (rates, unknown fault keys, faults that do not fit the run).
 // The expectations assume a loop that consumes scans and landmark sightings; see expect_loop_inputs.

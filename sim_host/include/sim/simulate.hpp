@@ -1,10 +1,9 @@
 #pragma once
-// The host simulation: a scenario's sensor stream goes through the HAL gate (hal::ValidatedInputs, what a rig runs)
-// and the HAL-to-loop adapter (hal::LoopPort) into the firmware's FilterLoop (est::loop::ConfiguredLoop) with the MCL estimator on the scans or the EKF on the
-// landmark sightings, in process; every
-// estimate is compared with the ground truth. Metrics: accuracy once localized, time to converge from a global start
-// and to recover from the kidnapping, and every rejected input by reason next to the faults that were injected.
-// Host only (may throw).
+// The host simulation: a scenario's sensor stream goes through the same pipeline estimator_node runs
+// (node/estimator_pipeline.hpp: the HAL gate, the loop port, the firmware's filter loop with MCL on the scans or the
+// EKF on the landmark sightings, any of the six motion models), in process; every estimate is compared with the
+// ground truth. Metrics: accuracy once localized, time to converge from a global start and to recover from the
+// kidnapping, and every rejected input by reason next to the faults that were injected. Host only (may throw).
 #include <cstdint>
 #include <map>
 #include <string>
@@ -15,10 +14,11 @@
 #include "est/filter/ekf_localization.hpp"
 #include "est/geometry/pose2.hpp"
 #include "est/loop/configured_loop.hpp"
-#include "est/loop/status.hpp"
+#include "est/loop/loop_counters.hpp"
 #include "hal/fault.hpp"
 #include "hal/loop_port.hpp"
-#include "hal/range_scan_validator.hpp"
+#include "hal/sensors/range_scan/validator.hpp"
+#include "node/estimator_spec.hpp"
 #include "sim/scenario.hpp"
 #include "sim/sensor_stream.hpp"
 
@@ -28,7 +28,13 @@ struct FilterOptions {
   // mcl: augmented MCL on the scans (MclEstimator). ekf: EKF localization on the landmark sightings (EkfEstimator,
   // Thrun tables 7.2/7.3), tracking from a Gaussian at the true start; it needs a world with landmarks.
   est::loop::Filter filter = est::loop::Filter::mcl;
+  node::RangeModel range_model = node::RangeModel::likelihood_field;  // MCL's
   StartKind start = StartKind::global;
+  // The steered range model (a rangefinder on the handlebar): the handle positions (0: the steering reading taken as
+  // exact), how far the filter trusts the reading, and the steering noise while no steering is known.
+  std::int32_t handle_positions = 6;
+  float handle_reading_sigma_rad = 0.05f;
+  float unknown_steer_sigma_rad = 0.3f;
   std::uint32_t particles = 20000;  // initial count (and the capacity's share when KLD adapts it)
   bool kld = true;
   std::uint32_t kld_min = 500;
@@ -95,7 +101,7 @@ struct SimResult {
   SensorStream stream;
   std::vector<OutputRow> rows;
   std::vector<ParticleSnapshot> snapshots;
-  hal::FaultCounters wheel_faults, steering_faults, scan_faults, landmark_faults;
+  std::map<std::string, hal::FaultCounters> sensor_faults;  // by the HAL's sensor names (wheel_ticks, ...)
   std::uint32_t landmark_features_accepted = 0;  // by the HAL
   hal::BeamCounters beams;
   est::loop::LoopCounters loop;
@@ -104,21 +110,26 @@ struct SimResult {
   est::CorrectionCounters ekf;            // EKF runs: features fused or refused, by reason
   est::PredictionCounters ekf_predictions;
   std::uint32_t nonfinite_estimates = 0;
+  std::string description;                // the estimator, as estimator_node describes it
   SimMetrics metrics;
   double wall_s = 0.0;
 
-  // Reject counters by the names InjectedFault::expected uses (hal.<stream>.<reason> with stream in wheel_ticks,
-  // steering, scan, landmarks; hal.scan.beams_nan,
+  // Reject counters by the names InjectedFault::expected uses (hal.<stream>.<reason> with stream a HAL sensor name:
+  // wheel_ticks, steering, twist, odometry, scan, landmarks; hal.scan.beams_nan,
   // loop.too_old, loop.queue_full, loop.rejected, port.<reason>); zeros left out. An EKF's refused features are not
   // in loop.rejected here (see SimResult::ekf).
   std::map<std::string, int> observed_counts() const;
 };
 
+// The estimator of a run, as estimator_node is configured for this robot (record writes the same as options).
+node::EstimatorSpec estimator_spec(const ScenarioConfig& scenario, const FilterOptions& filter,
+                                   const SensorStream& stream);
+
 // Throws std::invalid_argument on a bad configuration, e.g. the EKF with a global start or in a world without
 // landmarks.
 SimResult run_simulation(const ScenarioConfig& scenario, const FilterOptions& filter, const SimWorld& world);
 
-const char* to_string(est::loop::Filter f);
+using node::to_string;  // of est::loop::Filter
 
 // The files of a run in `dir` (created): trajectory.csv, faults.csv, metrics.json and, with plots, trajectory.png,
 // errors.png, particles.png (gnuplot scripts and their data beside them). Returns the paths written.

@@ -28,10 +28,10 @@
 #include "est/loop/filter_loop.hpp"
 #include "est/loop/likelihood_field_scan.hpp"
 #include "est/loop/mcl_estimator.hpp"
+#include "est/loop/model_kinds.hpp"
 
 namespace est::loop {
 
-enum class Filter : std::uint8_t { mcl, ekf };
 
 namespace detail {
 template <typename Config, typename = void>

@@ -5,8 +5,11 @@
 // space. All storage is static: N_max particles and K_max beams are template parameters; the range model's map
 // structures and the free space are owned by the caller and outlive the estimator.
 // Prediction uses the whole-set sampler (est/motion/motion_batch.hpp: the model's distribution, vectorizable, for the
-// models that have one; the others sample particle by particle).
+// models that have one; the others sample particle by particle). A range model that estimates the steering (the
+// handlebar's, est/loop/steered_scan.hpp) hands it to the predictions in place of the steering reading.
 #include <cstdint>
+#include <type_traits>
+#include <utility>
 
 #include "est/filter/augmented_mcl.hpp"
 #include "est/filter/free_space_sampler.hpp"
@@ -17,6 +20,13 @@
 #include "est/sensor/range_scan.hpp"
 
 namespace est::loop {
+
+// Whether a range model estimates the steering (est/loop/steered_scan.hpp) for the predictions.
+template <typename ScanModel, typename = void>
+struct EstimatesSteering : std::false_type {};
+template <typename ScanModel>
+struct EstimatesSteering<ScanModel, std::void_t<decltype(std::declval<const ScanModel&>().steering_estimate(
+                                        std::declval<float&>()))>> : std::true_type {};
 
 template <typename Model>
 struct MclEstimatorConfig {
@@ -49,9 +59,17 @@ class MclEstimator {
     estimate_valid_ = false;
   }
 
-  StepOutcome predict(const MotionInput& m) {
+  StepOutcome predict(const MotionInput& in) {
     if (!initialized_) return StepOutcome::rejected;
-    context_ = {m.steering_rad, m.steering_known};
+    context_ = {in.steering_rad, in.steering_known};  // the reading, for the next correction
+    MotionInput m = in;
+    if constexpr (EstimatesSteering<ScanModel>::value) {  // the steering the corrections believe
+      float alpha = 0.0f;
+      if (scan_model_.steering_estimate(alpha)) {
+        m.steering_rad = alpha;
+        m.steering_known = true;
+      }
+    }
     typename Model::Params p = config_.motion;
     typename Model::Control u{};
     const ControlStatus c = Assembler::make(m, config_.control, p, u);

@@ -1,8 +1,8 @@
 #pragma once
 // Bicycle (front-wheel referenced): the traction encoder on the front wheel gives the wheel's travel over dt, the
-// steering sensor the angle a; the speed is travel / dt, held over dt. Without a steering sensor (steering_fitted
-// false, or before its first sample) the steering is taken as 0 and, if unknown_steer_sigma > 0, known only to
-// that standard deviation (the filter then has to find the turns from its measurements).
+// steering sensor the angle a; the speed is travel / dt, held over dt. Without a steering angle (no sensor fitted,
+// none received yet, and no estimate from the estimator) the steering is taken as 0 and, if unknown_steer_sigma > 0,
+// known only to that standard deviation (the filter then has to find the turns from its measurements).
 #include <cstdint>
 
 #include "est/loop/control_assembler.hpp"
@@ -28,7 +28,7 @@ struct ControlAssembler<BicycleMotionModel> {
     if (m.wheel_count <= c.traction_wheel || !(m.dt_s > 0.0f)) return ControlStatus::rejected;
     p.dt = m.dt_s;
     u.v = static_cast<float>(ticks) * c.metres_per_tick / m.dt_s;
-    const bool known = c.steering_fitted && m.steering_known;
+    const bool known = m.steering_known;  // without a sensor fitted, only an estimator's estimate sets it
     u.steer = known ? m.steering_rad : 0.0f;
     if (!known && c.unknown_steer_sigma > p.steer_sigma) p.steer_sigma = c.unknown_steer_sigma;
     return ControlStatus::ok;
