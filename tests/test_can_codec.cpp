@@ -1,12 +1,18 @@
 // CAN codec: frames as estimator.dbc lays them out (hand-computed bytes), round trips of every message, and
-// rejection of wrong ids, wrong DLC, bad checksums, NaN and out-of-range values.
+// rejection of wrong ids, wrong DLC, bad checksums, NaN and out-of-range values; WHEEL_TICKS paired with its
+// WHEEL_TICKS_EXT, and ODOMETRY's wrapping counters.
 #include <catch2/catch.hpp>
 #include <cstring>
 #include <limits>
 
 #include "hal/can/crc.hpp"
-#include "hal/can/messages.hpp"
+#include "hal/can/estimate_frames.hpp"
 #include "hal/can/signal.hpp"
+#include "hal/sensors/odometry/can.hpp"
+#include "hal/sensors/range_scan/can_frames.hpp"
+#include "hal/sensors/steering/can.hpp"
+#include "hal/sensors/twist/can.hpp"
+#include "hal/sensors/wheel_ticks/can.hpp"
 
 using namespace hal::can;
 
@@ -41,19 +47,229 @@ TEST_CASE("checksums match their published check values", "[can][crc]") {
   CHECK(c16.value() == 0x29B1);
 }
 
-TEST_CASE("WHEEL_TICKS bytes: little-endian counters, alive counter in byte 6, CRC-8 in byte 7", "[can][codec]") {
+TEST_CASE("WHEEL_TICKS bytes: little-endian counters, wheel count in byte 4, alive counter in byte 6, CRC-8 in byte 7",
+          "[can][codec]") {
   CanFrame f;
-  REQUIRE(encode(WheelTicksMsg{0x1234, 0xABCD, 5}, f) == CodecStatus::ok);
+  REQUIRE(encode(WheelTicksMsg{{0x1234, 0xABCD}, 2, 5}, f) == CodecStatus::ok);
   CHECK(f.id == 0x100);
   CHECK(f.dlc == 8);
-  const std::uint8_t expect[7] = {0x34, 0x12, 0xCD, 0xAB, 0x00, 0x00, 0x05};
+  const std::uint8_t expect[7] = {0x34, 0x12, 0xCD, 0xAB, 0x02, 0x00, 0x05};
   CHECK(std::memcmp(f.data, expect, 7) == 0);
   CHECK(f.data[7] == crc8_of(0x100, expect));
   WheelTicksMsg m;
   REQUIRE(decode(f, m) == CodecStatus::ok);
-  CHECK(m.ticks_left == 0x1234);
-  CHECK(m.ticks_right == 0xABCD);
+  CHECK(m.ticks[0] == 0x1234);
+  CHECK(m.ticks[1] == 0xABCD);
+  CHECK(m.wheel_count == 2);
   CHECK(m.counter == 5);
+}
+
+TEST_CASE("WHEEL_TICKS_EXT bytes: wheels 2 and 3 little-endian, the first frame's counter in byte 6", "[can][codec]") {
+  CanFrame f;
+  REQUIRE(encode(WheelTicksExtMsg{{0xBEEF, 0x0102}, 9}, f) == CodecStatus::ok);
+  CHECK(f.id == 0x102);
+  CHECK(f.dlc == 8);
+  const std::uint8_t expect[7] = {0xEF, 0xBE, 0x02, 0x01, 0x00, 0x00, 0x09};
+  CHECK(std::memcmp(f.data, expect, 7) == 0);
+  CHECK(f.data[7] == crc8_of(0x102, expect));
+  WheelTicksExtMsg m;
+  REQUIRE(decode(f, m) == CodecStatus::ok);
+  CHECK(m.ticks[0] == 0xBEEF);
+  CHECK(m.ticks[1] == 0x0102);
+  CHECK(m.counter == 9);
+  WheelTicksMsg not_first;
+  CHECK(decode(f, not_first) == CodecStatus::wrong_id);
+}
+
+TEST_CASE("TWIST bytes: signed 16-bit mm/s and mrad/s, round trip within half a step", "[can][codec]") {
+  using namespace dbc;
+  CanFrame f;
+  REQUIRE(encode(TwistMsg{1.5f, -0.25f, 0.001f, 7}, f) == CodecStatus::ok);
+  CHECK(f.id == 0x103);
+  const std::uint64_t v2_raw = 0x10000u - 250u;
+  const std::uint64_t low = 1500u | (v2_raw << 16) | (std::uint64_t{1} << 32) | (std::uint64_t{7} << 48);
+  CHECK((le64(f) & 0x00FFFFFFFFFFFFFFull) == low);
+  CHECK(f.data[7] == crc8_of(0x103, f.data));
+  for (float v : {-32.768f, -1.0f, 0.0f, 0.0004f, 3.14159f, 32.767f}) {
+    TwistMsg a{v, -0.5f * v, 0.25f * v, 3}, b;
+    REQUIRE(encode(a, f) == CodecStatus::ok);
+    REQUIRE(decode(f, b) == CodecStatus::ok);
+    CHECK(b.v1_mps == Approx(v).margin(tol(kTwistSignals[kTwistV1], v)));
+    CHECK(b.v2_mps == Approx(-0.5f * v).margin(tol(kTwistSignals[kTwistV2], v)));
+    CHECK(b.w_rps == Approx(0.25f * v).margin(tol(kTwistSignals[kTwistW], v)));
+    CHECK(b.counter == 3);
+  }
+  const hal::TwistSample s = to_sample(TwistMsg{0.5f, 0.25f, -1.0f, 2}, 1234);
+  CHECK(s.stamp_ns == 1234);
+  CHECK(s.v1_mps == 0.5f);
+  CHECK(s.v2_mps == 0.25f);
+  CHECK(s.w_rps == -1.0f);
+  const TwistMsg back = to_message(s, 11);
+  CHECK(back.v1_mps == 0.5f);
+  CHECK(back.counter == 11);
+}
+
+TEST_CASE("TWIST encode refuses NaN, infinity and speeds beyond +-32.767", "[can][codec]") {
+  CanFrame f;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  CHECK(encode(TwistMsg{nan, 0.0f, 0.0f, 0}, f) == CodecStatus::not_finite);
+  CHECK(encode(TwistMsg{0.0f, std::numeric_limits<float>::infinity(), 0.0f, 0}, f) == CodecStatus::not_finite);
+  CHECK(encode(TwistMsg{0.0f, 0.0f, nan, 0}, f) == CodecStatus::not_finite);
+  CHECK(encode(TwistMsg{32.8f, 0.0f, 0.0f, 0}, f) == CodecStatus::out_of_range);
+  CHECK(encode(TwistMsg{0.0f, -32.8f, 0.0f, 0}, f) == CodecStatus::out_of_range);
+  CHECK(encode(TwistMsg{0.0f, 0.0f, 40.0f, 0}, f) == CodecStatus::out_of_range);
+}
+
+TEST_CASE("ODOMETRY bytes: 18-bit x and y, 16-bit theta, counter beside the checksum", "[can][codec]") {
+  CanFrame f;
+  OdometryMsg m;
+  m.x_mm = 0x3FFFF;
+  m.y_mm = 0x12345;
+  m.theta = 0xABCD;
+  m.counter = 0xE;
+  REQUIRE(encode(m, f) == CodecStatus::ok);
+  CHECK(f.id == 0x104);
+  const std::uint64_t low = 0x3FFFFull | (0x12345ull << 18) | (0xABCDull << 36) | (0xEull << 52);
+  CHECK((le64(f) & 0x00FFFFFFFFFFFFFFull) == low);
+  CHECK(f.data[7] == crc8_of(0x104, f.data));
+  OdometryMsg b;
+  REQUIRE(decode(f, b) == CodecStatus::ok);
+  CHECK(b.x_mm == 0x3FFFFu);
+  CHECK(b.y_mm == 0x12345u);
+  CHECK(b.theta == 0xABCD);
+  CHECK(b.counter == 0xE);
+  // x and y are counters modulo 2^18: a value past the period goes on the bus reduced.
+  m.x_mm = 0x40000u + 5u;
+  REQUIRE(encode(m, f) == CodecStatus::ok);
+  REQUIRE(decode(f, b) == CodecStatus::ok);
+  CHECK(b.x_mm == 5u);
+}
+
+TEST_CASE("an odometry pose becomes wrapping counters: negative and large positions, any heading", "[can][codec]") {
+  using namespace dbc;
+  OdometryMsg m;
+  hal::OdometrySample s;
+  s.pose = {1.234f, -0.001f, -0.5f * est::kPi};
+  REQUIRE(to_message(s, 4, m));
+  CHECK(m.x_mm == 1234u);
+  CHECK(m.y_mm == 262143u);  // -1 mm modulo 2^18
+  CHECK(m.theta == 49152);   // -a quarter turn is three quarters
+  CHECK(m.counter == 4);
+  s.pose = {262.144f + 0.5f, 1000.0f, 7.0f * est::kPi};
+  REQUIRE(to_message(s, 0, m));
+  CHECK(m.x_mm == 500u);
+  CHECK(m.y_mm == 1000000u % 262144u);
+  CHECK(m.theta == 32768);  // 3.5 turns: half a turn
+  s.pose.x = std::numeric_limits<float>::quiet_NaN();
+  CHECK_FALSE(to_message(s, 0, m));
+  s.pose = {1.0f, 2.0f, std::numeric_limits<float>::infinity()};
+  CHECK_FALSE(to_message(s, 0, m));
+
+  // Back: metres in [0, 262.144), theta in (-pi, pi], and the period the validator differences with.
+  m.x_mm = 262143u;
+  m.y_mm = 5u;
+  m.theta = 49152;
+  const hal::OdometrySample back = to_sample(m, 777);
+  CHECK(back.stamp_ns == 777);
+  CHECK(back.pose.x == Approx(262.143).margin(1e-4));
+  CHECK(back.pose.y == Approx(0.005).margin(1e-7));
+  CHECK(back.pose.theta == Approx(-0.5 * M_PI).margin(1e-4));
+  CHECK(back.wrap_m == kOdometryWrapM);
+  CHECK(kOdometryWrapM == 262.144f);
+  CHECK(static_cast<double>(kOdometryThetaStep) == Approx(2.0 * M_PI / 65536.0).epsilon(1e-7));
+}
+
+TEST_CASE("one or two wheels are one WHEEL_TICKS frame; three or four add WHEEL_TICKS_EXT with the same counter",
+          "[can][codec]") {
+  hal::WheelTicks s;
+  s.stamp_ns = 1;
+  s.count[0] = 70000;  // beyond 16 bits: the bus carries the low 16 (the receiver's counter is 16 bits wide)
+  s.count[1] = 2;
+  s.count[2] = 3;
+  s.count[3] = 65535;
+  CanFrame out[2];
+  for (std::uint8_t n : {std::uint8_t{1}, std::uint8_t{2}}) {
+    s.wheel_count = n;
+    REQUIRE(encode_wheel_ticks(s, 9, out) == 1u);
+    WheelTicksMsg m;
+    REQUIRE(decode(out[0], m) == CodecStatus::ok);
+    CHECK(m.wheel_count == n);
+    CHECK(m.ticks[0] == (70000u & 0xFFFFu));
+    CHECK(m.counter == 9);
+  }
+  for (std::uint8_t n : {std::uint8_t{3}, std::uint8_t{4}}) {
+    s.wheel_count = n;
+    REQUIRE(encode_wheel_ticks(s, 12, out) == 2u);
+    WheelTicksMsg m;
+    WheelTicksExtMsg e;
+    REQUIRE(decode(out[0], m) == CodecStatus::ok);
+    REQUIRE(decode(out[1], e) == CodecStatus::ok);
+    CHECK(m.wheel_count == n);
+    CHECK(e.ticks[0] == 3);
+    CHECK(e.ticks[1] == 65535);
+    CHECK(e.counter == 12);
+    CHECK(m.counter == 12);
+  }
+  s.wheel_count = 0;
+  CHECK(encode_wheel_ticks(s, 0, out) == 0u);
+  s.wheel_count = 5;
+  CHECK(encode_wheel_ticks(s, 0, out) == 0u);
+  // A frame's own WheelCount must be what the DBC allows, 1 to 4.
+  CHECK(encode(WheelTicksMsg{{1, 2}, 0, 0}, out[0]) == CodecStatus::out_of_range);
+  CHECK(encode(WheelTicksMsg{{1, 2}, 5, 0}, out[0]) == CodecStatus::out_of_range);
+  CHECK(encode(WheelTicksMsg{{1, 2}, 4, 0}, out[0]) == CodecStatus::ok);
+}
+
+TEST_CASE("WHEEL_TICKS pairs with its WHEEL_TICKS_EXT by the alive counter; a broken pair is incomplete",
+          "[can][codec]") {
+  WheelTicksFrames pairs;
+  hal::WheelTicks out;
+  // Two wheels: the first frame is the sample, at its stamp.
+  WheelTicksFrames::Result r = pairs.on_first(WheelTicksMsg{{10, 20}, 2, 0}, 100, out);
+  CHECK(r.sample);
+  CHECK_FALSE(r.incomplete);
+  CHECK(out.stamp_ns == 100);
+  CHECK(out.wheel_count == 2);
+  CHECK(out.count[1] == 20);
+  // Four wheels: the first frame waits, the second with the same counter completes it (stamped with the first's).
+  r = pairs.on_first(WheelTicksMsg{{1, 2}, 4, 5}, 200, out);
+  CHECK_FALSE(r.sample);
+  CHECK_FALSE(r.incomplete);
+  r = pairs.on_second(WheelTicksExtMsg{{3, 4}, 5}, out);
+  REQUIRE(r.sample);
+  CHECK_FALSE(r.incomplete);
+  CHECK(out.stamp_ns == 200);
+  CHECK(out.wheel_count == 4);
+  CHECK(out.count[0] == 1);
+  CHECK(out.count[1] == 2);
+  CHECK(out.count[2] == 3);
+  CHECK(out.count[3] == 4);
+  // A second frame of another counter: the waiting first frame and it are dropped.
+  pairs.on_first(WheelTicksMsg{{1, 2}, 3, 6}, 300, out);
+  r = pairs.on_second(WheelTicksExtMsg{{3, 0}, 7}, out);
+  CHECK_FALSE(r.sample);
+  CHECK(r.incomplete);
+  // ... and nothing is waiting any more: even the right counter now has no first frame.
+  r = pairs.on_second(WheelTicksExtMsg{{3, 0}, 6}, out);
+  CHECK_FALSE(r.sample);
+  CHECK(r.incomplete);
+  // A first frame not completed before the next WHEEL_TICKS is dropped; the new one waits in its place.
+  pairs.on_first(WheelTicksMsg{{1, 2}, 3, 8}, 400, out);
+  r = pairs.on_first(WheelTicksMsg{{5, 6}, 3, 9}, 410, out);
+  CHECK(r.incomplete);
+  CHECK_FALSE(r.sample);
+  r = pairs.on_second(WheelTicksExtMsg{{7, 0}, 9}, out);
+  REQUIRE(r.sample);
+  CHECK(out.stamp_ns == 410);
+  CHECK(out.wheel_count == 3);
+  CHECK(out.count[0] == 5);
+  CHECK(out.count[2] == 7);
+  // A two-wheel frame arriving while a four-wheel one waits: the waiting one is incomplete, the new one passes.
+  pairs.on_first(WheelTicksMsg{{1, 2}, 4, 10}, 500, out);
+  r = pairs.on_first(WheelTicksMsg{{8, 9}, 2, 11}, 510, out);
+  CHECK(r.incomplete);
+  CHECK(r.sample);
+  CHECK(out.count[0] == 8);
 }
 
 TEST_CASE("STEERING bytes: Motorola signed angle in bytes 0-1", "[can][codec]") {
@@ -157,7 +373,7 @@ TEST_CASE("every message survives encode then decode within half a scaling step"
 
 TEST_CASE("decode rejects another message's id and a wrong DLC", "[can][codec]") {
   CanFrame f;
-  REQUIRE(encode(WheelTicksMsg{1, 2, 3}, f) == CodecStatus::ok);
+  REQUIRE(encode(WheelTicksMsg{{1, 2}, 2, 3}, f) == CodecStatus::ok);
   SteeringMsg s;
   CHECK(decode(f, s) == CodecStatus::wrong_id);
   for (int dlc : {0, 1, 7}) {
@@ -185,6 +401,38 @@ TEST_CASE("a flipped bit anywhere in a checksummed frame is a bad checksum", "[c
   moved.id = dbc::kWheelTicksId;
   WheelTicksMsg w;
   CHECK(decode(moved, w) == CodecStatus::bad_checksum);
+}
+
+TEST_CASE("a flipped bit in WHEEL_TICKS, WHEEL_TICKS_EXT, TWIST or ODOMETRY is a bad checksum", "[can][codec]") {
+  CanFrame frames[4];
+  REQUIRE(encode(WheelTicksMsg{{100, 200}, 4, 3}, frames[0]) == CodecStatus::ok);
+  REQUIRE(encode(WheelTicksExtMsg{{300, 400}, 3}, frames[1]) == CodecStatus::ok);
+  REQUIRE(encode(TwistMsg{0.5f, -0.1f, 0.2f, 3}, frames[2]) == CodecStatus::ok);
+  OdometryMsg o;
+  o.x_mm = 1000;
+  o.y_mm = 2000;
+  o.theta = 300;
+  REQUIRE(encode(o, frames[3]) == CodecStatus::ok);
+  auto status = [](const CanFrame& f) {
+    switch (f.id) {
+      case dbc::kWheelTicksId: { WheelTicksMsg m; return decode(f, m); }
+      case dbc::kWheelTicksExtId: { WheelTicksExtMsg m; return decode(f, m); }
+      case dbc::kTwistId: { TwistMsg m; return decode(f, m); }
+      default: { OdometryMsg m; return decode(f, m); }
+    }
+  };
+  for (const CanFrame& good : frames) {
+    INFO("id " << good.id);
+    CHECK(status(good) == CodecStatus::ok);
+    for (int bit = 0; bit < 64; ++bit) {
+      CanFrame f = good;
+      f.data[bit / 8] = static_cast<std::uint8_t>(f.data[bit / 8] ^ (1u << (bit % 8)));
+      CHECK(status(f) == CodecStatus::bad_checksum);
+    }
+    CanFrame short_frame = good;
+    short_frame.dlc = 7;
+    CHECK(status(short_frame) == CodecStatus::wrong_dlc);
+  }
 }
 
 TEST_CASE("encode rejects NaN, infinity and values outside the DBC range", "[can][codec]") {

@@ -4,8 +4,12 @@
 #include <vector>
 
 #include "hal/can/can_input.hpp"
-#include "hal/can/messages.hpp"
-#include "hal/can/scan_frames.hpp"
+#include "hal/can/estimate_frames.hpp"
+#include "hal/sensors/odometry/can.hpp"
+#include "hal/sensors/range_scan/can_frames.hpp"
+#include "hal/sensors/steering/can.hpp"
+#include "hal/sensors/twist/can.hpp"
+#include "hal/sensors/wheel_ticks/can.hpp"
 #include "hal/validated_inputs.hpp"
 
 using namespace hal::can;
@@ -13,19 +17,57 @@ using hal::kNsPerMs;
 
 namespace {
 
-struct Recorder final : hal::SensorPort {
+struct Recorder final : hal::PortImplementation<Recorder, hal::SensorPort> {
   std::vector<hal::WheelTicks> wheels;
   std::vector<hal::SteeringSample> steering;
+  std::vector<hal::TwistSample> twists;
+  std::vector<hal::OdometrySample> odometry;
   std::vector<std::size_t> scans;
-  void on_wheel_ticks(const hal::WheelTicks& s) override { wheels.push_back(s); }
-  void on_steering(const hal::SteeringSample& s) override { steering.push_back(s); }
-  void on_range_scan(const hal::RangeScanView& s) override { scans.push_back(s.count); }
-  void on_landmarks(const hal::LandmarkSightingView&) override {}
+  int landmarks = 0;
+  void handle(const hal::WheelTicks& s) { wheels.push_back(s); }
+  void handle(const hal::SteeringSample& s) { steering.push_back(s); }
+  void handle(const hal::TwistSample& s) { twists.push_back(s); }
+  void handle(const hal::OdometrySample& s) { odometry.push_back(s); }
+  void handle(const hal::RangeScanView& s) { scans.push_back(s.count); }
+  void handle(const hal::LandmarkSightingView&) { ++landmarks; }
 };
 
-CanFrame wheel_frame(std::uint16_t l, std::uint16_t r, std::uint8_t counter) {
+// Counts the checked samples that pass the gate.
+struct CheckedCounter final : hal::PortImplementation<CheckedCounter, hal::ValidatedSensorPort> {
+  int motion = 0, steering = 0, other = 0;
+  void handle(const hal::WheelTickDelta&) { ++motion; }
+  void handle(const hal::SteeringSample&) { ++steering; }
+  template <typename Checked>
+  void handle(const Checked&) {
+    ++other;
+  }
+};
+
+CanFrame wheel_frame(std::uint16_t l, std::uint16_t r, std::uint8_t counter, std::uint8_t wheel_count = 2) {
   CanFrame f;
-  REQUIRE(encode(WheelTicksMsg{l, r, counter}, f) == CodecStatus::ok);
+  REQUIRE(encode(WheelTicksMsg{{l, r}, wheel_count, counter}, f) == CodecStatus::ok);
+  return f;
+}
+
+CanFrame wheel_ext_frame(std::uint16_t t2, std::uint16_t t3, std::uint8_t counter) {
+  CanFrame f;
+  REQUIRE(encode(WheelTicksExtMsg{{t2, t3}, counter}, f) == CodecStatus::ok);
+  return f;
+}
+
+CanFrame twist_frame(float v1, float v2, float w, std::uint8_t counter) {
+  CanFrame f;
+  REQUIRE(encode(TwistMsg{v1, v2, w, counter}, f) == CodecStatus::ok);
+  return f;
+}
+
+CanFrame odometry_frame(const est::Pose2& pose, std::uint8_t counter) {
+  hal::OdometrySample s;
+  s.pose = pose;
+  OdometryMsg m;
+  REQUIRE(to_message(s, counter, m));
+  CanFrame f;
+  REQUIRE(encode(m, f) == CodecStatus::ok);
   return f;
 }
 
@@ -103,13 +145,7 @@ TEST_CASE("through the HAL gate: out-of-range steering, time going backwards and
     hal::TimeNs now = 0;
     hal::TimeNs now_ns() override { return now; }
   } clock;
-  struct Sink final : hal::ValidatedSensorPort {
-    int motion = 0, steering = 0;
-    void on_wheel_motion(const hal::WheelTickDelta&) override { ++motion; }
-    void on_steering(const hal::SteeringSample&) override { ++steering; }
-    void on_range_scan(const hal::RangeScanView&) override {}
-    void on_landmarks(const hal::LandmarkSightingView&) override {}
-  } sink;
+  CheckedCounter sink;
   hal::InputLimits limits;
   limits.wheels.counter_bits = kCanWheelCounterBits;
   limits.steering.max_angle_rad = 0.6f;
@@ -131,4 +167,64 @@ TEST_CASE("through the HAL gate: out-of-range steering, time going backwards and
   CHECK(gate.faults()[hal::Fault::stale] == 1);
   CHECK(sink.steering == 1);
   CHECK(sink.motion == 2);
+}
+
+TEST_CASE("twist and odometry frames become HAL samples; odometry carries its counters' period", "[can][input]") {
+  Recorder port;
+  ScanReassembler<64> scans;
+  CanInput in(scans, port);
+  in.on_frame(twist_frame(0.5f, -0.25f, 1.5f, 0), 1000);
+  in.on_frame(odometry_frame({1.5f, -0.002f, 0.5f}, 0), 2000);
+  REQUIRE(port.twists.size() == 1u);
+  CHECK(port.twists[0].stamp_ns == 1000);
+  CHECK(port.twists[0].v1_mps == Approx(0.5).margin(5e-4));
+  CHECK(port.twists[0].v2_mps == Approx(-0.25).margin(5e-4));
+  CHECK(port.twists[0].w_rps == Approx(1.5).margin(5e-4));
+  REQUIRE(port.odometry.size() == 1u);
+  CHECK(port.odometry[0].stamp_ns == 2000);
+  CHECK(port.odometry[0].pose.x == Approx(1.5).margin(5e-4));
+  CHECK(port.odometry[0].pose.y == Approx(262.142).margin(5e-4));  // -2 mm on a 2^18 mm counter
+  CHECK(port.odometry[0].pose.theta == Approx(0.5).margin(1e-4));
+  CHECK(port.odometry[0].wrap_m == dbc::kOdometryWrapM);
+  CHECK(in.rejects().total() == 0u);
+  CHECK(in.frames_accepted() == 2u);
+  // Each has its own alive counter.
+  in.on_frame(twist_frame(0.5f, 0.0f, 0.0f, 0), 3000);
+  in.on_frame(odometry_frame({1.5f, 0.0f, 0.5f}, 2), 4000);
+  CHECK(in.rejects()[FrameReject::duplicate] == 1u);
+  CHECK(in.rejects()[FrameReject::counter_gap] == 1u);
+  CHECK(port.twists.size() == 1u);
+  CHECK(port.odometry.size() == 2u);
+}
+
+TEST_CASE("a four-wheel sample is WHEEL_TICKS then WHEEL_TICKS_EXT; a broken pair is counted as incomplete",
+          "[can][input]") {
+  Recorder port;
+  ScanReassembler<64> scans;
+  CanInput in(scans, port);
+  in.on_frame(wheel_frame(1, 2, 0, 4), 1000);
+  CHECK(port.wheels.empty());  // waits for its second frame
+  in.on_frame(wheel_ext_frame(3, 4, 0), 1100);
+  REQUIRE(port.wheels.size() == 1u);
+  CHECK(port.wheels[0].stamp_ns == 1000);  // the first frame's receive time
+  CHECK(port.wheels[0].wheel_count == 4);
+  CHECK(port.wheels[0].count[0] == 1u);
+  CHECK(port.wheels[0].count[3] == 4u);
+  CHECK(in.rejects().total() == 0u);
+
+  in.on_frame(wheel_frame(5, 6, 1, 3), 2000);
+  in.on_frame(wheel_frame(7, 8, 2, 3), 2010);  // the extension of counter 1 never came
+  in.on_frame(wheel_ext_frame(9, 0, 2), 2020);
+  REQUIRE(port.wheels.size() == 2u);
+  CHECK(port.wheels[1].count[0] == 7u);
+  CHECK(port.wheels[1].count[2] == 9u);
+  CHECK(in.rejects()[FrameReject::incomplete] == 1u);
+
+  in.on_frame(wheel_frame(1, 1, 3, 4), 3000);
+  in.on_frame(wheel_ext_frame(1, 1, 9), 3010);  // another sample's extension
+  in.on_frame(wheel_ext_frame(1, 1, 3), 3020);  // too late: the first frame was dropped
+  CHECK(port.wheels.size() == 2u);
+  CHECK(in.rejects()[FrameReject::incomplete] == 3u);
+  CHECK(in.rejects().total() == 3u);
+  CHECK(port.landmarks == 0);  // CAN carries no landmark sightings
 }

@@ -5,12 +5,18 @@
 #include <type_traits>
 
 #include "est/loop/configured_loop.hpp"
+#include "est/loop/steered_scan.hpp"
 #include "est/motion/bicycle_model.hpp"
 #include "est/motion/diff_drive_model.hpp"
 
 namespace {
 
 constexpr est::loop::TimeNs kMs = 1000000;
+
+// Staleness limits in the table's order: wheel ticks, steering, twist, odometry, scan, landmark.
+constexpr est::loop::StalenessLimits limits(est::loop::TimeNs landmark) {
+  return est::loop::StalenessLimits{{100 * kMs, 100 * kMs, 100 * kMs, 100 * kMs, 500 * kMs, landmark}};
+}
 
 struct MclRig {
   using Model = est::BicycleMotionModel;
@@ -19,8 +25,11 @@ struct MclRig {
   static constexpr std::int32_t kMaxBeams = 60;
   static constexpr std::uint32_t kQueueCapacity = 32;
   static constexpr std::uint32_t kScanSlots = 2;
-  static constexpr est::loop::LoopTiming kTiming{20 * kMs, 30 * kMs, 100 * kMs, 100 * kMs, 500 * kMs, 1000 * kMs,
-                                                 5 * kMs, 100};
+  static constexpr est::loop::LoopTiming kTiming{20 * kMs, 30 * kMs, limits(1000 * kMs), 5 * kMs, 100};
+};
+
+struct SteeredRig : MclRig {  // MCL's range model chosen by the config
+  using ScanModel = est::loop::SteeredScan<512>;
 };
 
 struct EkfRig {  // no kMaxParticles: an EKF has none
@@ -29,19 +38,28 @@ struct EkfRig {  // no kMaxParticles: an EKF has none
   static constexpr std::int32_t kMaxBeams = 1;
   static constexpr std::uint32_t kQueueCapacity = 64;
   static constexpr std::uint32_t kScanSlots = 1;
-  static constexpr est::loop::LoopTiming kTiming{10 * kMs, 20 * kMs, 100 * kMs, 100 * kMs, 500 * kMs, 400 * kMs,
-                                                 5 * kMs, 100};
+  static constexpr est::loop::LoopTiming kTiming{10 * kMs, 20 * kMs, limits(400 * kMs), 5 * kMs, 100};
 };
 
 using Mcl = est::loop::ConfiguredLoop<MclRig>;
+using Steered = est::loop::ConfiguredLoop<SteeredRig>;
 using Ekf = est::loop::ConfiguredLoop<EkfRig>;
 
-static_assert(std::is_same_v<Mcl::Estimator, est::loop::MclEstimator<est::BicycleMotionModel, 512, 60>>);
-static_assert(std::is_same_v<Mcl::Loop, est::loop::FilterLoop<Mcl::Estimator, 32, 60, 2>>);
+static_assert(std::is_same_v<Mcl::Estimator,
+                             est::loop::MclEstimator<est::BicycleMotionModel, 512, 60, est::loop::LikelihoodFieldScan>>);
+static_assert(std::is_same_v<Steered::Estimator,
+                             est::loop::MclEstimator<est::BicycleMotionModel, 512, 60, est::loop::SteeredScan<512>>>);
+static_assert(std::is_same_v<Mcl::Loop, est::loop::FilterLoopStorage<Mcl::Estimator, 32, 60, 2>>);
+static_assert(std::is_base_of_v<est::loop::FilterLoop<Mcl::Estimator>, Mcl::Loop>);
 static_assert(std::is_same_v<Ekf::Estimator, est::loop::EkfEstimator<est::DiffDriveMotionModel>>);
 static_assert(std::is_same_v<Ekf::EstimatorConfig, est::loop::EkfEstimatorConfig<est::DiffDriveMotionModel>>);
-static_assert(Mcl::Estimator::kUsesScans && !Mcl::Estimator::kUsesLandmarks && Mcl::Estimator::kUsesSteering);
-static_assert(!Ekf::Estimator::kUsesScans && Ekf::Estimator::kUsesLandmarks && !Ekf::Estimator::kUsesSteering);
+static_assert(std::is_same_v<Mcl::EstimatorConfig, est::loop::MclEstimatorConfig<est::BicycleMotionModel>>);
+static_assert(Mcl::kTiming.staleness[est::loop::InputKind::landmark] == 1000 * kMs);
+static_assert(Ekf::kTiming.staleness[est::loop::InputKind::landmark] == 400 * kMs);
+static_assert(est::loop::CorrectsWith<Mcl::Estimator, est::loop::ScanInput>::value &&
+              !est::loop::CorrectsWith<Mcl::Estimator, est::loop::LandmarkInput>::value);
+static_assert(!est::loop::CorrectsWith<Ekf::Estimator, est::loop::ScanInput>::value &&
+              est::loop::CorrectsWith<Ekf::Estimator, est::loop::LandmarkInput>::value);
 
 struct Outputs {
   std::vector<est::loop::TimeNs> times;
@@ -65,11 +83,16 @@ TEST_CASE("the config struct's rates and staleness limits are the ones the loop 
   Ekf::Estimator estimator(c, est::LandmarkMap(lm, 1));
   REQUIRE(estimator.initialize_at({0.0f, 0.0f, 0.0f}, 0.1f, 0.05f));
   Ekf::Loop loop(estimator, Ekf::kTiming);
+  CHECK(estimator.inputs() == (est::loop::InputKind::wheel_ticks | est::loop::InputKind::landmark));
   Outputs out;
   StepClock clock;
   float range[1] = {1.0f};
   for (int i = 0; i <= 100; ++i) {
-    loop.push(est::loop::WheelTicksInput{i * 5 * kMs, 2, 2});  // 200 Hz encoders
+    est::loop::WheelTicksInput w;
+    w.t_ns = i * 5 * kMs;
+    w.ticks[0] = w.ticks[1] = 2;
+    w.wheel_count = 2;
+    loop.push(w);  // 200 Hz encoders
     if (i == 10) loop.push(est::loop::LandmarkInput{i * 5 * kMs, 4.9f, 0.0f, 0.0f, 0});
     loop.push(est::loop::ScanInput{i * 5 * kMs + kMs, est::ScanLayout{0.0f, 0.1f, 1, 0.1f, 10.0f}, range});
     loop.run(clock, out);
@@ -84,4 +107,21 @@ TEST_CASE("the config struct's rates and staleness limits are the ones the loop 
   CHECK((out.status[43] & est::loop::status::kLandmarkTimeout) == 0u);  // 440 ms
   CHECK((out.status[45] & est::loop::status::kLandmarkTimeout) != 0u);  // 460 ms
   CHECK((out.status[0] & est::loop::status::kLandmarkTimeout) != 0u);   // 10 ms, before any sighting
+}
+
+TEST_CASE("the MCL rig uses its model's motion inputs and scans; without a steering sensor the steering is unused",
+          "[configured_loop]") {
+  const est::LikelihoodField field;
+  const est::FreeSpaceSampler free_space;
+  Mcl::EstimatorConfig c;
+  Mcl::Estimator with_steering(c, 1u, est::loop::LikelihoodFieldScan(field), free_space);
+  CHECK(with_steering.inputs() ==
+        (est::loop::InputKind::wheel_ticks | est::loop::InputKind::steering | est::loop::InputKind::scan));
+  c.control.steering_fitted = false;
+  Mcl::Estimator without(c, 1u, est::loop::LikelihoodFieldScan(field), free_space);
+  CHECK(without.inputs() == (est::loop::InputKind::wheel_ticks | est::loop::InputKind::scan));
+  Mcl::Loop loop(without, Mcl::kTiming);
+  CHECK_FALSE(loop.push(est::loop::SteeringInput{0, 0.1f}));
+  CHECK(loop.counters().unused == 1u);
+  CHECK(loop.max_beams() == 60);
 }

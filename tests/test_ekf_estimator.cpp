@@ -20,7 +20,26 @@ namespace {
 using est::loop::TimeNs;
 constexpr TimeNs kMs = 1000000;
 using DiffEstimator = est::loop::EkfEstimator<est::DiffDriveMotionModel>;
-using DiffLoop = est::loop::FilterLoop<DiffEstimator, 64, 1, 1>;
+using DiffLoop = est::loop::FilterLoopStorage<DiffEstimator, 64, 1, 1>;
+
+// Two-wheel encoder increments (wheel 0 left, or the bicycle's traction wheel).
+est::loop::WheelTicksInput ticks(TimeNs t, std::int32_t w0, std::int32_t w1) {
+  est::loop::WheelTicksInput in;
+  in.t_ns = t;
+  in.ticks[0] = w0;
+  in.ticks[1] = w1;
+  in.wheel_count = 2;
+  return in;
+}
+
+est::loop::MotionInput motion(float dt_s, std::int32_t left, std::int32_t right) {
+  est::loop::MotionInput m;
+  m.dt_s = dt_s;
+  m.wheel_count = 2;
+  m.ticks[0] = left;
+  m.ticks[1] = right;
+  return m;
+}
 
 const est::Landmark kLandmarks[8] = {{0.0f, 0.0f, 1.0f}, {6.0f, 0.0f, 2.0f}, {6.0f, 6.0f, 3.0f},
                                      {0.0f, 6.0f, 4.0f}, {3.0f, -1.5f, 5.0f}, {7.5f, 3.0f, 6.0f},
@@ -70,14 +89,14 @@ void drive(Loop& loop, Estimator&, const est::loop::EkfEstimatorConfig<est::Diff
   StepClock clock;
   std::vector<std::pair<TimeNs, est::Pose2>> truth_log;
   const float m_per_tick = est::diff_drive_m_per_tick(c.motion);
-  loop.push(est::loop::WheelTicksInput{0, 0, 0});
+  loop.push(ticks(0, 0, 0));
   for (int k = 1; k <= 100 * seconds; ++k) {
     const float v = 0.6f, w = 0.3f + 0.1f * std::sin(0.002f * static_cast<float>(k)), dt = 0.01f;
     const auto tl = static_cast<std::int32_t>(std::lround((v - 0.5f * w * c.motion.track_width) * dt / m_per_tick));
     const auto tr = static_cast<std::int32_t>(std::lround((v + 0.5f * w * c.motion.track_width) * dt / m_per_tick));
     truth = est::DiffDriveMotionModel::sample(truth, {tl, tr}, c.motion, rng);
     truth_log.push_back({k * 10 * kMs, truth});
-    loop.push(est::loop::WheelTicksInput{k * 10 * kMs, tl, tr});
+    loop.push(ticks(k * 10 * kMs, tl, tr));
     if (sightings && k % 20 == 0) {
       for (std::int32_t j = 0; j < kMap.size(); ++j) {
         const float dx = kLandmarks[j].x - truth.x, dy = kLandmarks[j].y - truth.y;
@@ -205,10 +224,10 @@ TEST_CASE("without correspondences the loop's EKF associates by maximum likeliho
 
 TEST_CASE("the loop's EKF tracks a front-wheel bicycle with steering", "[ekf_estimator]") {
   using Estimator = est::loop::EkfEstimator<est::BicycleMotionModel>;
-  using Loop = est::loop::FilterLoop<Estimator, 64, 1, 1>;
+  using Loop = est::loop::FilterLoopStorage<Estimator, 64, 1, 1>;
   est::loop::EkfEstimatorConfig<est::BicycleMotionModel> c;
   c.motion.frame_length = 0.6f;
-  c.odometry.metres_per_tick = 0.001f;
+  c.control.metres_per_tick = 0.001f;
   c.ekf.additive_process_noise.diagonal() << 1e-6f, 1e-6f, 1e-6f;
   c.noise = {0.05f, 0.02f, 0.0f};
   Estimator ekf(c, kMap);
@@ -219,17 +238,17 @@ TEST_CASE("the loop's EKF tracks a front-wheel bicycle with steering", "[ekf_est
   StepClock clock;
   Outputs out;
   std::vector<est::Pose2> truth_log;
-  loop.push(est::loop::WheelTicksInput{0, 0, 0});
+  loop.push(ticks(0, 0, 0));
   loop.push(est::loop::SteeringInput{0, 0.25f});
   for (int k = 1; k <= 2000; ++k) {
     const float steer = 0.25f;  // a circle of about 2.5 m radius at the front wheel
-    const std::int32_t ticks = 6;  // 0.6 m/s
+    const std::int32_t front = 6;  // front-wheel ticks per 10 ms: 0.6 m/s
     est::BicycleMotionModel::Params p = c.motion;
     p.dt = 0.01f;
-    truth = est::BicycleMotionModel::predict(truth, {0.001f * static_cast<float>(ticks) / 0.01f, steer}, p);
+    truth = est::BicycleMotionModel::predict(truth, {0.001f * static_cast<float>(front) / 0.01f, steer}, p);
     truth_log.push_back(truth);
     loop.push(est::loop::SteeringInput{k * 10 * kMs, steer});
-    loop.push(est::loop::WheelTicksInput{k * 10 * kMs, ticks, 0});
+    loop.push(ticks(k * 10 * kMs, front, 0));
     if (k % 20 == 0)
       for (std::int32_t j = 0; j < kMap.size(); ++j) {
         const float dx = kLandmarks[j].x - truth.x, dy = kLandmarks[j].y - truth.y;
@@ -263,12 +282,12 @@ TEST_CASE("bad landmark features are rejected with their reason counted, and the
   DiffLoop loop(ekf, est::loop::LoopTiming{});
   StepClock clock;
   Outputs out;
-  loop.push(est::loop::WheelTicksInput{10 * kMs, 0, 0});
+  loop.push(ticks(10 * kMs, 0, 0));
   loop.push(est::loop::LandmarkInput{10 * kMs, NAN, 0.0f, 0.0f, 0});                 // not finite
   loop.push(est::loop::LandmarkInput{10 * kMs, 3.0f, 0.1f, 0.0f, 99});              // no landmark 99
   loop.push(est::loop::LandmarkInput{10 * kMs, 3.16f + 4.0f, -0.32f, 0.0f, 0});     // 80 sigma outlier: gated
   loop.push(est::loop::LandmarkInput{10 * kMs, 3.0f, INFINITY, 0.0f, -1});          // not finite, unknown id
-  loop.push(est::loop::WheelTicksInput{100 * kMs, 0, 0});
+  loop.push(ticks(100 * kMs, 0, 0));
   loop.run(clock, out);
   loop.flush(clock, out);
   CHECK(loop.counters().rejected == 4u);
@@ -297,7 +316,7 @@ TEST_CASE("dead reckoning without sightings raises the landmark timeout and, onc
   drive(loop, ekf, c, 5, 60, true, run, false);
   REQUIRE(!run.out.all.empty());
   CHECK((run.out.all.back().status & est::loop::status::kLandmarkTimeout) != 0u);
-  CHECK(run.counters.landmark_timeouts == run.out.all.size());
+  CHECK(run.counters.of(est::loop::InputKind::landmark).stale == run.out.all.size());
   // Position sigma grows with distance (5 % of travel per wheel): past 0.3 m within the minute, reported degenerate.
   CHECK(run.counters.degenerate > 0u);
   CHECK((run.out.all.back().status & est::loop::status::kFilterDegenerate) != 0u);
@@ -312,10 +331,10 @@ TEST_CASE("an uninitialized or badly initialized EKF estimator refuses steps ins
   CHECK_FALSE(ekf.initialize_at({3.0f, 1.0f, 0.0f}, 0.0f, 0.02f));
   CHECK_FALSE(ekf.initialize_at({NAN, 1.0f, 0.0f}, 0.1f, 0.02f));
   CHECK_FALSE(ekf.initialized());
-  CHECK(ekf.predict({0.01f, 10, 10, 0.0f, false}) == est::loop::StepOutcome::rejected);
+  CHECK(ekf.predict(motion(0.01f, 10, 10)) == est::loop::StepOutcome::rejected);
   CHECK(ekf.correct(est::loop::LandmarkInput{0, 3.0f, 0.0f, 0.0f, 0}) == est::loop::StepOutcome::rejected);
   CHECK(ekf.initialize_at({3.0f, 1.0f, 0.0f}, 0.1f, 0.02f));
-  CHECK(ekf.predict({0.01f, 10, 10, 0.0f, false}) == est::loop::StepOutcome::applied);
+  CHECK(ekf.predict(motion(0.01f, 10, 10)) == est::loop::StepOutcome::applied);
 }
 
 TEST_CASE("the EKF loop's outputs are bit-identical when the inputs arrive shuffled within the reorder window",

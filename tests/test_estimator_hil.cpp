@@ -22,7 +22,7 @@
 #include <thread>
 #include <vector>
 
-#include "hal/can/messages.hpp"
+#include "hal/sensors/steering/can.hpp"
 #include "hal/lcm/lcm_convert.hpp"
 #include "node_harness.hpp"
 #include "office_sensor_log.hpp"
@@ -150,10 +150,10 @@ TEST_CASE("the node runs on vcan0, accounts for every frame and stops on SIGINT 
   CHECK(summary_value(r.summary, "  rejects.can_frame:", "accepted") == frames + 1);
   CHECK(summary_value(r.summary, "  inputs:", "wheel_ticks") + rejects_of(r.summary, "  rejects.wheel_ticks:") ==
         static_cast<long long>(r.stream.encoder_messages));
-  CHECK(summary_value(r.summary, "  inputs:", "scans") + rejects_of(r.summary, "  rejects.scan:") ==
+  CHECK(summary_value(r.summary, "  inputs:", "scan") + rejects_of(r.summary, "  rejects.scan:") ==
         static_cast<long long>(r.stream.scan_messages));
   CHECK(summary_value(r.summary, "  rejects.can_scan:", "completed") == static_cast<long long>(r.stream.scan_messages));
-  CHECK(summary_value(r.summary, "  loop:", "corrections") == summary_value(r.summary, "  inputs:", "scans"));
+  CHECK(summary_value(r.summary, "  loop:", "corrections") == summary_value(r.summary, "  inputs:", "scan"));
   std::printf("HAL rejects in the live run: wheel_ticks %lld, scans %lld\n",
               rejects_of(r.summary, "  rejects.wheel_ticks:"), rejects_of(r.summary, "  rejects.scan:"));
 }

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "hal/maps/landmark_file.hpp"
+#include "world/office_map.hpp"
 
 namespace {
 

@@ -1,5 +1,6 @@
 // LCM backend over memq:// (in process): every input kind reaches the SensorPort on configurable channels, every
-// output can be read back, and malformed, mis-shaped or bad-valued messages are rejected with their reason counted.
+// output can be read back, and malformed, mis-shaped or bad-valued messages are rejected with their reason counted;
+// the twist and odometry conversions round-trip and decode only through the guard.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
@@ -16,25 +17,38 @@ namespace {
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-struct Recorder final : hal::SensorPort, hal::TeamPort {
+struct Recorder final : hal::PortImplementation<Recorder, hal::SensorPort>, hal::TeamPort {
   std::vector<hal::WheelTicks> wheels;
   std::vector<hal::SteeringSample> steering;
+  std::vector<hal::TwistSample> twists;
+  std::vector<hal::OdometrySample> odometry;
   std::vector<std::vector<float>> scans;
   std::vector<hal::ScanGeometry> geometry;
   std::vector<hal::TeamMessage> team;
   std::vector<std::vector<hal::LandmarkFeature>> sightings;
   std::vector<hal::TimeNs> sighting_stamps;
-  void on_wheel_ticks(const hal::WheelTicks& s) override { wheels.push_back(s); }
-  void on_steering(const hal::SteeringSample& s) override { steering.push_back(s); }
-  void on_range_scan(const hal::RangeScanView& s) override {
+  void handle(const hal::WheelTicks& s) { wheels.push_back(s); }
+  void handle(const hal::SteeringSample& s) { steering.push_back(s); }
+  void handle(const hal::TwistSample& s) { twists.push_back(s); }
+  void handle(const hal::OdometrySample& s) { odometry.push_back(s); }
+  void handle(const hal::RangeScanView& s) {
     scans.emplace_back(s.ranges, s.ranges + s.count);
     geometry.push_back(s.geometry);
   }
-  void on_landmarks(const hal::LandmarkSightingView& s) override {
+  void handle(const hal::LandmarkSightingView& s) {
     sightings.emplace_back(s.features, s.features + s.count);
     sighting_stamps.push_back(s.stamp_ns);
   }
   void on_team_message(const hal::TeamMessage& m) override { team.push_back(m); }
+};
+
+// Counts the checked samples that pass the gate.
+struct CheckedCounter final : hal::PortImplementation<CheckedCounter, hal::ValidatedSensorPort> {
+  int n = 0;
+  template <typename Checked>
+  void handle(const Checked&) {
+    ++n;
+  }
 };
 
 void pump(lcm::LCM& lcm) {
@@ -49,6 +63,8 @@ hal::lcm::InputConfig custom_channels() {
   c.channels.range_scan = "ROBOT7/LIDAR";
   c.channels.team = "TEAM";
   c.channels.landmarks = "ROBOT7/MARKERS";
+  c.channels.twist = "ROBOT7/CMD_VEL";
+  c.channels.odometry = "ROBOT7/ODOM";
   c.wheel_counter_bits = 16;
   c.max_ranges = 1081;
   return c;
@@ -289,13 +305,7 @@ TEST_CASE("through the HAL gate: NaN steering, a NaN scan geometry and time goin
   struct Clock final : hal::Clock {
     hal::TimeNs now_ns() override { return 1000; }
   } clock;
-  struct Sink final : hal::ValidatedSensorPort {
-    int n = 0;
-    void on_wheel_motion(const hal::WheelTickDelta&) override { ++n; }
-    void on_steering(const hal::SteeringSample&) override { ++n; }
-    void on_range_scan(const hal::RangeScanView&) override { ++n; }
-    void on_landmarks(const hal::LandmarkSightingView&) override { ++n; }
-  } sink;
+  CheckedCounter sink;
   hal::InputLimits limits;
   limits.scan.min_valid_beams = 1;
   hal::ValidatedInputs gate(limits, clock, sink);
@@ -316,4 +326,108 @@ TEST_CASE("through the HAL gate: NaN steering, a NaN scan geometry and time goin
   CHECK(gate.faults()[hal::Fault::not_finite] == 2);
   CHECK(gate.faults()[hal::Fault::time_backwards] == 1);
   CHECK(sink.n == 1);
+}
+
+TEST_CASE("twists and odometry poses on their channels reach the SensorPort; their conversions round-trip",
+          "[lcm]") {
+  lcm::LCM lcm("memq://");
+  Recorder port;
+  hal::lcm::LcmInputs in(lcm, custom_channels(), port);
+  CHECK(in.is_input_channel("ROBOT7/CMD_VEL"));
+  CHECK(in.is_input_channel("ROBOT7/ODOM"));
+  CHECK_FALSE(in.is_input_channel("EST_TWIST"));  // renamed: the default is not subscribed
+  CHECK_FALSE(in.is_input_channel("TEAM"));       // the team channel is not a sensor's
+
+  const est_lcm::twist_t twist = hal::lcm::to_lcm(hal::TwistSample{900, 1.5f, -0.25f, 0.125f});
+  CHECK(twist.stamp_ns == 900);
+  CHECK(twist.v2_mps == -0.25f);
+  lcm.publish("ROBOT7/CMD_VEL", &twist);
+  lcm.publish("EST_TWIST", &twist);
+  hal::OdometrySample o;
+  o.stamp_ns = 950;
+  o.pose = {12.5f, -3.25f, 2.5f};
+  o.wrap_m = 262.144f;  // LCM's floats do not wrap: not carried
+  const est_lcm::odometry_t odom = hal::lcm::to_lcm(o);
+  CHECK(odom.x_m == 12.5f);
+  CHECK(odom.theta_rad == 2.5f);
+  lcm.publish("ROBOT7/ODOM", &odom);
+  pump(lcm);
+
+  REQUIRE(port.twists.size() == 1u);
+  CHECK(port.twists[0].stamp_ns == 900);
+  CHECK(port.twists[0].v1_mps == 1.5f);
+  CHECK(port.twists[0].v2_mps == -0.25f);
+  CHECK(port.twists[0].w_rps == 0.125f);
+  REQUIRE(port.odometry.size() == 1u);
+  CHECK(port.odometry[0].stamp_ns == 950);
+  CHECK(port.odometry[0].pose.x == 12.5f);
+  CHECK(port.odometry[0].pose.y == -3.25f);
+  CHECK(port.odometry[0].pose.theta == 2.5f);
+  CHECK(port.odometry[0].wrap_m == 0.0f);
+  CHECK(in.accepted() == 2u);
+  CHECK(in.rejects().total() == 0u);
+}
+
+TEST_CASE("twist_t and odometry_t decode only through the guard: garbage, truncation, another type are malformed",
+          "[lcm]") {
+  const std::vector<std::uint8_t> twist = bytes_of(hal::lcm::to_lcm(hal::TwistSample{1, 0.5f, 0.0f, 0.1f}));
+  hal::OdometrySample o;
+  o.pose = {1.0f, 2.0f, 0.5f};
+  const std::vector<std::uint8_t> odom = bytes_of(hal::lcm::to_lcm(o));
+  est_lcm::twist_t t;
+  est_lcm::odometry_t m;
+  CHECK(hal::lcm::decode_guarded(twist.data(), twist.size(), t, 0) == LcmReject::none);
+  CHECK(t.v1_mps == 0.5f);
+  CHECK(hal::lcm::decode_guarded(odom.data(), odom.size(), m, 0) == LcmReject::none);
+  CHECK(m.y_m == 2.0f);
+  CHECK(hal::lcm::decode_guarded(twist.data(), twist.size() - 1, t, 0) == LcmReject::malformed);
+  CHECK(hal::lcm::decode_guarded(odom.data(), odom.size(), t, 0) == LcmReject::malformed);  // fingerprint
+  std::vector<std::uint8_t> longer = twist;
+  longer.push_back(0);
+  CHECK(hal::lcm::decode_guarded(longer.data(), longer.size(), t, 0) == LcmReject::malformed);
+  CHECK(hal::lcm::decode_guarded(nullptr, 10, t, 0) == LcmReject::malformed);
+
+  lcm::LCM lcm("memq://");
+  Recorder port;
+  hal::lcm::LcmInputs in(lcm, custom_channels(), port);
+  lcm.publish("ROBOT7/CMD_VEL", twist.data(), static_cast<unsigned>(twist.size() - 2));
+  lcm.publish("ROBOT7/ODOM", twist.data(), static_cast<unsigned>(twist.size()));
+  const std::uint8_t garbage[3] = {7, 7, 7};
+  lcm.publish("ROBOT7/ODOM", garbage, sizeof garbage);
+  pump(lcm);
+  CHECK(in.rejects()[LcmReject::malformed] == 3u);
+  CHECK(port.twists.empty());
+  CHECK(port.odometry.empty());
+}
+
+TEST_CASE("through the HAL gate: a NaN twist, a too fast one and an odometry jump are counted by the validators",
+          "[lcm]") {
+  struct Clock final : hal::Clock {
+    hal::TimeNs now = 0;
+    hal::TimeNs now_ns() override { return now; }
+  } clock;
+  CheckedCounter sink;
+  hal::ValidatedInputs gate(hal::InputLimits{}, clock, sink);
+  lcm::LCM lcm("memq://");
+  hal::lcm::LcmInputs in(lcm, custom_channels(), gate);
+  clock.now = 1000 * hal::kNsPerMs;
+  est_lcm::twist_t t = hal::lcm::to_lcm(hal::TwistSample{1000 * hal::kNsPerMs, kNaN, 0.0f, 0.0f});
+  lcm.publish("ROBOT7/CMD_VEL", &t);
+  t.v1_mps = 50.0f;
+  lcm.publish("ROBOT7/CMD_VEL", &t);
+  t.v1_mps = 1.0f;
+  lcm.publish("ROBOT7/CMD_VEL", &t);
+  hal::OdometrySample o;
+  o.stamp_ns = 1000 * hal::kNsPerMs;
+  est_lcm::odometry_t m = hal::lcm::to_lcm(o);
+  lcm.publish("ROBOT7/ODOM", &m);
+  m.stamp_ns += 4 * hal::kNsPerMs;  // within the 5 ms the clock may lag
+  m.x_m = 3.0f;                     // 750 m/s: an odometry reset
+  lcm.publish("ROBOT7/ODOM", &m);
+  pump(lcm);
+  CHECK(in.rejects().total() == 0u);  // well-formed LCM: the HAL judges the values
+  CHECK(gate.twist().faults()[hal::Fault::not_finite] == 1u);
+  CHECK(gate.twist().faults()[hal::Fault::out_of_range] == 1u);
+  CHECK(gate.odometry().faults()[hal::Fault::out_of_range] == 1u);
+  CHECK(sink.n == 2);  // the good twist and the first odometry pose
 }

@@ -9,13 +9,18 @@
 namespace {
 const char* kUrl = "udpm://239.255.76.67:7667?ttl=0";
 
-struct Recorder final : hal::SensorPort {
+struct Recorder final : hal::PortImplementation<Recorder, hal::SensorPort> {
   std::vector<hal::SteeringSample> steering;
+  std::vector<hal::TwistSample> twists;
   std::vector<std::size_t> scans;
-  void on_wheel_ticks(const hal::WheelTicks&) override {}
-  void on_steering(const hal::SteeringSample& s) override { steering.push_back(s); }
-  void on_range_scan(const hal::RangeScanView& s) override { scans.push_back(s.count); }
-  void on_landmarks(const hal::LandmarkSightingView&) override {}
+  int other = 0;
+  void handle(const hal::SteeringSample& s) { steering.push_back(s); }
+  void handle(const hal::TwistSample& s) { twists.push_back(s); }
+  void handle(const hal::RangeScanView& s) { scans.push_back(s.count); }
+  template <typename Raw>
+  void handle(const Raw&) {
+    ++other;
+  }
 };
 }  // namespace
 
@@ -39,10 +44,13 @@ TEST_CASE("sensor messages and estimates cross udpm between two LCM instances", 
   scan.ranges_m.assign(1081, 5.0f);  // 4.3 kB: more than one UDP fragment of LCM's
   scan.num_ranges = 1081;
   // Multicast needs the subscriptions in place before anything is sent: send until received (bounded).
-  for (int attempt = 0; attempt < 50 && (port.steering.empty() || port.scans.empty()); ++attempt) {
+  for (int attempt = 0; attempt < 50 && (port.steering.empty() || port.scans.empty() || port.twists.empty());
+       ++attempt) {
     const est_lcm::steering_t s = hal::lcm::to_lcm(hal::SteeringSample{attempt, 0.2f});
     sensors.publish("EST_STEERING", &s);
     sensors.publish("EST_RANGE_SCAN", &scan);
+    const est_lcm::twist_t t = hal::lcm::to_lcm(hal::TwistSample{attempt, 0.5f, -0.1f, 0.3f});
+    sensors.publish("EST_TWIST", &t);
     while (estimator.handleTimeout(20) > 0) {
     }
   }
@@ -50,6 +58,10 @@ TEST_CASE("sensor messages and estimates cross udpm between two LCM instances", 
   CHECK(port.steering.back().angle_rad == 0.2f);
   REQUIRE(!port.scans.empty());
   CHECK(port.scans.back() == 1081);
+  REQUIRE(!port.twists.empty());
+  CHECK(port.twists.back().v1_mps == 0.5f);
+  CHECK(port.twists.back().w_rps == 0.3f);
+  CHECK(port.other == 0);
 
   hal::Estimate e;
   e.pose = {3.0f, 4.0f, 0.5f};

@@ -5,12 +5,18 @@
 #include <vector>
 
 #include "est/filter/augmented_mcl.hpp"
+#include "est/loop/ekf_estimator.hpp"
+#include "est/loop/filter_loop.hpp"
 #include "est/filter/free_space_sampler.hpp"
 #include "est/filter/two_landmark_sampler.hpp"
 #include "est/map/ray_casting.hpp"
 #include "est/motion/bicycle_model.hpp"
 #include "est/sensor/beam_range_finder_model.hpp"
 #include "est/sensor/likelihood_field_grid.hpp"
+#include "hal/can/can_input.hpp"
+#include "hal/can/sample_frames.hpp"
+#include "hal/pipeline.hpp"
+#include "hal/sensors/range_scan/can_frames.hpp"
 #include "heap_guard.hpp"
 #include "selftest.hpp"
 
@@ -121,4 +127,70 @@ TEST_CASE("MCL steps (predict, both range models, landmarks, KLD resampling with
   CHECK(count == 0u);
   CHECK(std::isfinite(checksum));
   CHECK(g_mcl.counters().resamplings == 6u);
+}
+
+namespace {
+struct NoClock final : hal::Clock {
+  hal::TimeNs now = 0;
+  hal::TimeNs now_ns() override { return now; }
+};
+struct NoSink final : hal::EstimateSink {
+  std::uint32_t n = 0;
+  float x = 0.0f;
+  void publish(const hal::Estimate& e) override {
+    ++n;
+    x += e.pose.x;
+  }
+};
+using NoHeapEkf = est::loop::EkfEstimator<est::DiffDriveMotionModel>;
+const est::Landmark g_posts[2] = {{3.0f, 0.0f, 1.0f}, {0.0f, 3.0f, 2.0f}};
+NoHeapEkf g_ekf(est::loop::EkfEstimatorConfig<est::DiffDriveMotionModel>{}, est::LandmarkMap(g_posts, 2));
+est::loop::FilterLoopStorage<NoHeapEkf, 64, 8, 1> g_loop(g_ekf, est::loop::LoopTiming{});
+NoClock g_clock;
+NoSink g_sink;
+hal::Pipeline<NoHeapEkf> g_pipeline(g_loop, hal::InputLimits{}, g_clock, g_clock, g_sink);
+hal::can::ScanReassembler<8> g_scans;
+hal::can::CanInput g_can(g_scans, g_pipeline.input());
+hal::can::SampleFrames g_frames;
+}  // namespace
+
+TEST_CASE("the CAN receive path, the HAL pipeline and the loop handle every sensor's samples without the heap",
+          "[heap]") {
+  REQUIRE(g_ekf.initialize_at({1.0f, 1.0f, 0.0f}, 0.1f, 0.05f));
+  hal::can::CanFrame frames[4];
+  const float ranges[4] = {1.0f, 2.0f, 3.0f, 4.0f};
+  const hal::LandmarkFeature features[2] = {{2.2f, -0.46f, 1.0f, 0}, {2.2f, 2.0f, 2.0f, -1}};
+  est::test::HeapGuard guard;
+  for (int k = 0; k < 100; ++k) {
+    const hal::TimeNs t = k * 10 * hal::kNsPerMs;
+    g_clock.now = t;
+    hal::WheelTicks w;
+    w.stamp_ns = t;
+    w.wheel_count = 2;
+    w.count[0] = static_cast<std::uint32_t>(3 * k);
+    w.count[1] = static_cast<std::uint32_t>(4 * k);
+    // Encoders, steering, twist and odometry over the bus; scans and sightings straight into the gate.
+    std::size_t n = g_frames.encode(w, frames, 4);
+    for (std::size_t i = 0; i < n; ++i) g_can.on_frame(frames[i], t);
+    n = g_frames.encode(hal::SteeringSample{t, 0.01f}, frames, 4);
+    for (std::size_t i = 0; i < n; ++i) g_can.on_frame(frames[i], t);
+    n = g_frames.encode(hal::TwistSample{t, 0.2f, 0.0f, 0.1f}, frames, 4);
+    for (std::size_t i = 0; i < n; ++i) g_can.on_frame(frames[i], t);
+    hal::OdometrySample o;
+    o.stamp_ns = t;
+    o.pose = {0.002f * static_cast<float>(k), 0.0f, 0.0f};
+    n = g_frames.encode(o, frames, 4);
+    for (std::size_t i = 0; i < n; ++i) g_can.on_frame(frames[i], t);
+    if (k % 10 == 5) g_pipeline.input().on(hal::RangeScanView{t, {0.0f, 0.1f, 0.1f, 10.0f, 0.1f}, ranges, 4});
+    if (k % 20 == 10) g_pipeline.input().on(hal::LandmarkSightingView{t, features, 2});
+    g_pipeline.refresh(0, g_can.rejects().total());
+  }
+  g_pipeline.flush();
+  const auto count = guard.allocations();
+  CHECK(count == 0u);
+  CHECK(g_sink.n > 90u);
+  CHECK(std::isfinite(g_sink.x));
+  CHECK(g_loop.counters().of(est::loop::InputKind::wheel_ticks).accepted == 100u);
+  CHECK(g_loop.counters().of(est::loop::InputKind::landmark).accepted == 10u);
+  CHECK(g_loop.counters().unused > 0u);  // steering, twist, odometry, scans: not this EKF's
 }

@@ -20,8 +20,13 @@
 #include <vector>
 
 #include "hal/can/can_input.hpp"
-#include "hal/can/messages.hpp"
-#include "hal/can/scan_frames.hpp"
+#include "hal/can/estimate_frames.hpp"
+#include "hal/can/estimator_dbc.hpp"
+#include "hal/sensors/odometry/can.hpp"
+#include "hal/sensors/range_scan/can_frames.hpp"
+#include "hal/sensors/steering/can.hpp"
+#include "hal/sensors/twist/can.hpp"
+#include "hal/sensors/wheel_ticks/can.hpp"
 #include "hal/socketcan/socketcan_bus.hpp"
 #include "hal/status_word.hpp"
 
@@ -89,28 +94,43 @@ std::string hex(const CanFrame& f) {
   return s;
 }
 
+// One frame of every message of the DBC: the inputs first (kInputs of them), then the outputs.
+constexpr std::size_t kInputs = std::size(dbc::kInputIds);
+constexpr std::size_t kOutputs = std::size(dbc::kOutputIds);
+
 std::vector<CanFrame> one_of_each() {
-  std::vector<CanFrame> f(9);
-  REQUIRE(encode(WheelTicksMsg{65535, 12, 3}, f[0]) == CodecStatus::ok);
-  REQUIRE(encode(SteeringMsg{-0.25f, 4}, f[1]) == CodecStatus::ok);
-  REQUIRE(encode(ScanHeaderMsg{2, 30, 0xABCD, 0.1f, 30.0f}, f[2]) == CodecStatus::ok);
-  REQUIRE(encode(ScanInfoMsg{2, 0.06f, -2.0f, 0.01f}, f[3]) == CodecStatus::ok);
-  REQUIRE(encode(ScanDataMsg{2, 0, {1000, 2000, 0xFFFF}}, f[4]) == CodecStatus::ok);
-  REQUIRE(encode(PoseEstimateMsg{1.5f, -2.5f, 0.75f, 5}, f[5]) == CodecStatus::ok);
-  REQUIRE(encode(PoseSigmaMsg{0.1f, 0.2f, 0.05f, 5}, f[6]) == CodecStatus::ok);
-  REQUIRE(encode(PoseCorrelationMsg{0.1f, -0.2f, 0.3f, 5}, f[7]) == CodecStatus::ok);
-  REQUIRE(encode(EstimatorStatusMsg{hal::status::kScanTimeout, 17, 5}, f[8]) == CodecStatus::ok);
+  std::vector<CanFrame> f(kInputs + kOutputs);
+  REQUIRE(encode(WheelTicksMsg{{65535, 12}, 4, 3}, f[0]) == CodecStatus::ok);
+  REQUIRE(encode(WheelTicksExtMsg{{7, 8}, 3}, f[1]) == CodecStatus::ok);
+  REQUIRE(encode(SteeringMsg{-0.25f, 4}, f[2]) == CodecStatus::ok);
+  REQUIRE(encode(TwistMsg{0.5f, -0.1f, 0.25f, 4}, f[3]) == CodecStatus::ok);
+  OdometryMsg odometry;
+  odometry.x_mm = 262000;
+  odometry.y_mm = 1500;
+  odometry.theta = 16384;
+  REQUIRE(encode(odometry, f[4]) == CodecStatus::ok);
+  REQUIRE(encode(ScanHeaderMsg{2, 30, 0xABCD, 0.1f, 30.0f}, f[5]) == CodecStatus::ok);
+  REQUIRE(encode(ScanInfoMsg{2, 0.06f, -2.0f, 0.01f}, f[6]) == CodecStatus::ok);
+  REQUIRE(encode(ScanDataMsg{2, 0, {1000, 2000, 0xFFFF}}, f[7]) == CodecStatus::ok);
+  REQUIRE(encode(PoseEstimateMsg{1.5f, -2.5f, 0.75f, 5}, f[8]) == CodecStatus::ok);
+  REQUIRE(encode(PoseSigmaMsg{0.1f, 0.2f, 0.05f, 5}, f[9]) == CodecStatus::ok);
+  REQUIRE(encode(PoseCorrelationMsg{0.1f, -0.2f, 0.3f, 5}, f[10]) == CodecStatus::ok);
+  REQUIRE(encode(EstimatorStatusMsg{hal::status::kScanTimeout, 17, 5}, f[11]) == CodecStatus::ok);
   return f;
 }
 
-struct Recorder final : hal::SensorPort {
+struct Recorder final : hal::PortImplementation<Recorder, hal::SensorPort> {
   std::vector<hal::WheelTicks> wheels;
   std::vector<hal::SteeringSample> steering;
+  std::vector<hal::TwistSample> twists;
+  std::vector<hal::OdometrySample> odometry;
   std::vector<std::size_t> scans;
-  void on_wheel_ticks(const hal::WheelTicks& s) override { wheels.push_back(s); }
-  void on_steering(const hal::SteeringSample& s) override { steering.push_back(s); }
-  void on_range_scan(const hal::RangeScanView& s) override { scans.push_back(s.count); }
-  void on_landmarks(const hal::LandmarkSightingView&) override {}
+  void handle(const hal::WheelTicks& s) { wheels.push_back(s); }
+  void handle(const hal::SteeringSample& s) { steering.push_back(s); }
+  void handle(const hal::TwistSample& s) { twists.push_back(s); }
+  void handle(const hal::OdometrySample& s) { odometry.push_back(s); }
+  void handle(const hal::RangeScanView& s) { scans.push_back(s.count); }
+  void handle(const hal::LandmarkSightingView&) {}
 };
 
 // Writes one raw frame (error frames included) on vcan0 from a socket of its own.
@@ -142,12 +162,13 @@ TEST_CASE("every message of the DBC round-trips through vcan0 with its bytes int
   REQUIRE(peer.open());
   const std::vector<CanFrame> frames = one_of_each();
 
+  REQUIRE(frames.size() == std::size(dbc::kMessages));
   const hal::TimeNs before = monotonic_now_ns();
   for (const CanFrame& f : frames) REQUIRE(peer.send(f));
-  const std::vector<RxFrame> at_estimator = receive(estimator, 5);  // the five inputs pass its filter
+  const std::vector<RxFrame> at_estimator = receive(estimator, kInputs);  // the inputs pass its filter
   const hal::TimeNs after = monotonic_now_ns();
-  REQUIRE(at_estimator.size() == 5);
-  for (std::size_t i = 0; i < 5; ++i) {
+  REQUIRE(at_estimator.size() == kInputs);
+  for (std::size_t i = 0; i < kInputs; ++i) {
     INFO("frame " << hex(frames[i]));
     CHECK(same(at_estimator[i].frame, frames[i]));
     CHECK(at_estimator[i].kernel_realtime_ns != 0);
@@ -158,22 +179,30 @@ TEST_CASE("every message of the DBC round-trips through vcan0 with its bytes int
   }
   CHECK(drain(estimator).empty());  // the four outputs were filtered out by the kernel
 
-  for (std::size_t i = 5; i < frames.size(); ++i) REQUIRE(estimator.send(frames[i]));
-  const std::vector<RxFrame> at_peer = receive(peer, 4);
-  REQUIRE(at_peer.size() == 4);
-  for (std::size_t i = 0; i < 4; ++i) CHECK(same(at_peer[i].frame, frames[5 + i]));
+  for (std::size_t i = kInputs; i < frames.size(); ++i) REQUIRE(estimator.send(frames[i]));
+  const std::vector<RxFrame> at_peer = receive(peer, kOutputs);
+  REQUIRE(at_peer.size() == kOutputs);
+  for (std::size_t i = 0; i < kOutputs; ++i) CHECK(same(at_peer[i].frame, frames[kInputs + i]));
 
   // Decoded on the estimator's side into HAL samples.
   Recorder port;
   ScanReassembler<64> scans;
   CanInput input(scans, port);
   for (const RxFrame& r : at_estimator) input.on_frame(r.frame, r.stamp_ns);
-  REQUIRE(port.wheels.size() == 1);
+  REQUIRE(port.wheels.size() == 1);  // WHEEL_TICKS and its WHEEL_TICKS_EXT: one four-wheel sample
+  CHECK(port.wheels[0].wheel_count == 4);
   CHECK(port.wheels[0].count[0] == 65535);
+  CHECK(port.wheels[0].count[3] == 8);
   REQUIRE(port.steering.size() == 1);
   CHECK(port.steering[0].angle_rad == Approx(-0.25).margin(1e-4));
-  CHECK(estimator.counters().rx_frames == 5);
-  CHECK(estimator.counters().tx_frames == 4);
+  REQUIRE(port.twists.size() == 1);
+  CHECK(port.twists[0].w_rps == Approx(0.25).margin(1e-4));
+  REQUIRE(port.odometry.size() == 1);
+  CHECK(port.odometry[0].pose.x == Approx(262.0).margin(1e-4));
+  CHECK(port.odometry[0].pose.theta == Approx(0.5 * M_PI).margin(1e-4));
+  CHECK(input.rejects().total() == 0);
+  CHECK(estimator.counters().rx_frames == kInputs);
+  CHECK(estimator.counters().tx_frames == kOutputs);
 }
 
 TEST_CASE("a whole scan of 1081 beams crosses vcan0 and reassembles", "[socketcan]") {
@@ -217,9 +246,9 @@ TEST_CASE("the kernel receive filter drops ids outside the DBC's inputs; without
   unknown.id = 0x123;
   unknown.dlc = 8;
   CanFrame near_miss = unknown;
-  near_miss.id = 0x102;  // one past STEERING
+  near_miss.id = 0x105;  // one past ODOMETRY
   CanFrame wheels;
-  REQUIRE(encode(WheelTicksMsg{1, 2, 0}, wheels) == CodecStatus::ok);
+  REQUIRE(encode(WheelTicksMsg{{1, 2}, 2, 0}, wheels) == CodecStatus::ok);
   REQUIRE(peer.send(unknown));
   REQUIRE(peer.send(near_miss));
   REQUIRE(peer.send(wheels));
@@ -317,7 +346,7 @@ TEST_CASE("the backend reconnects after vcan0 goes down and up, and after it is 
   REQUIRE(estimator.open());
   REQUIRE(peer.open());
   CanFrame wheels;
-  REQUIRE(encode(WheelTicksMsg{10, 20, 0}, wheels) == CodecStatus::ok);
+  REQUIRE(encode(WheelTicksMsg{{10, 20}, 2, 0}, wheels) == CodecStatus::ok);
 
   auto round_trip = [&] {
     REQUIRE(peer.send(wheels));

@@ -1,12 +1,10 @@
 #include "est/filter/free_space_sampler.hpp"
 #include "est/loop/configured_loop.hpp"
-#include "est/map/distance_transform.hpp"
-#include "est/map/occupancy_grid.hpp"
-#include "est/map/ray_casting.hpp"
 #include "est/motion/diff_drive_model.hpp"
 #include "est/random/samplers.hpp"
 #include "est/util/digest.hpp"
 #include "loop_digest.hpp"
+#include "loop_world.hpp"
 #include "selftest.hpp"
 
 namespace est::selftest {
@@ -26,32 +24,14 @@ using Configured = loop::ConfiguredLoop<LoopConfig>;
 using Estimator = Configured::Estimator;
 using Loop = Configured::Loop;
 
-// 5 m x 4 m at 0.1 m: walls, an L-shaped partition and a box, so the scans constrain every direction.
-OccupancyGridStorage<50, 40> g_grid;
-DistanceTransformStorage<50, 40> g_edt;
-LikelihoodField g_field;
-
 }  // namespace
 
 // The filter loop end to end (est/loop): a differential-drive robot's encoder ticks (100 Hz) and 60-beam scans
 // (10 Hz) pushed with a few late arrivals, through MclEstimator with the likelihood field, to published estimates.
 std::uint64_t section_loop() {
-  g_grid.configure(50, 40, 0.1f, 0.0f, 0.0f, kFreeCell);
-  g_grid.fill_rect(0, 0, 49, 0, kOccupiedCell);
-  g_grid.fill_rect(0, 39, 49, 39, kOccupiedCell);
-  g_grid.fill_rect(0, 0, 0, 39, kOccupiedCell);
-  g_grid.fill_rect(49, 0, 49, 39, kOccupiedCell);
-  g_grid.fill_rect(30, 0, 30, 22, kOccupiedCell);
-  g_grid.fill_rect(30, 22, 40, 22, kOccupiedCell);
-  g_grid.fill_rect(8, 28, 12, 32, kOccupiedCell);
-  const OccupancyGrid grid = g_grid.grid();
-  g_edt.build(grid);
-  LikelihoodFieldParams lf;
-  lf.range_max = 6.0f;
-  lf.max_distance = 1.0f;
-  g_field.configure(lf, grid, g_edt.view());
-  const FreeSpaceSampler free_space(grid, g_edt.view(), 0.15f);
-  const GridRayCaster caster(grid);
+  const SmallMap world_map = small_map();
+  const FreeSpaceSampler& free_space = world_map.free_space;
+  const GridRayCaster& caster = world_map.caster;
 
   Configured::EstimatorConfig cfg;
   cfg.motion.wheel_radius = 0.05f;
@@ -62,7 +42,7 @@ std::uint64_t section_loop() {
   cfg.motion.final_rot_sigma = 0.005f;
   cfg.beam_stride = 2;
   // Locals (~60 KiB of stack): the estimator and the loop hold references, and every run starts afresh.
-  Estimator estimator(cfg, 77u, loop::LikelihoodFieldScan(g_field), free_space);
+  Estimator estimator(cfg, 77u, loop::LikelihoodFieldScan(world_map.field), free_space);
   estimator.initialize_at({1.0f, 1.0f, 0.0f}, 0.1f, 0.05f, 256u);
   Loop lp(estimator, Configured::kTiming);
 
@@ -72,8 +52,7 @@ std::uint64_t section_loop() {
   Rng world(5u);
   const float m_per_tick = kTwoPi * cfg.motion.wheel_radius / static_cast<float>(cfg.motion.ticks_per_rev);
   Pose2 truth{1.0f, 1.0f, 0.0f};
-  float ranges[60];
-  constexpr loop::TimeNs kMs = 1000000;
+  float ranges[kSmallScanBeams];
   for (int k = 1; k <= 200; ++k) {  // 2 s: forward, then a left arc
     const float v = 0.5f, w = k > 100 ? 0.6f : 0.0f, dt = 0.01f;
     const float dl = (v - 0.5f * w * cfg.motion.track_width) * dt, dr = (v + 0.5f * w * cfg.motion.track_width) * dt;
@@ -82,13 +61,9 @@ std::uint64_t section_loop() {
     truth = DiffDriveMotionModel::predict(truth, {tl, tr}, cfg.motion);
     const loop::WheelTicksInput ticks{k * 10 * kMs, {tl, tr}, 2};
     if (k % 10 == 5) {  // a scan at 10 Hz, pushed after the next encoder sample: arrives late, within the window
-      for (int b = 0; b < 60; ++b) {
-        float s = 0.0f, c = 0.0f;
-        fmath::sincos(truth.theta - kPi + static_cast<float>(b) * (kTwoPi / 60.0f), s, c);
-        ranges[b] = caster.cast(truth.x, truth.y, c, s, 6.0f) + sample_normal(world, 0.02f);
-      }
+      simulate_small_scan(caster, truth, world, ranges);
       ranges[7] = __builtin_nanf("");  // a bad reading the scan preparation rejects and counts
-      const loop::ScanInput scan{k * 10 * kMs - 3 * kMs, ScanLayout{-kPi, kTwoPi / 60.0f, 60, 0.05f, 6.0f}, ranges};
+      const loop::ScanInput scan{k * 10 * kMs - 3 * kMs, small_scan_layout(), ranges};
       lp.push(ticks);
       lp.push(scan);
     } else {

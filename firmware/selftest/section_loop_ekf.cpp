@@ -4,6 +4,7 @@
 #include "est/random/samplers.hpp"
 #include "est/util/digest.hpp"
 #include "loop_digest.hpp"
+#include "loop_world.hpp"
 #include "selftest.hpp"
 
 namespace est::selftest {
@@ -18,9 +19,6 @@ struct LoopConfig {
   static constexpr loop::LoopTiming kTiming{};
 };
 using Configured = loop::ConfiguredLoop<LoopConfig>;
-
-const Landmark kLandmarks[6] = {{0.0f, 0.0f, 1.0f}, {5.0f, 0.0f, 2.0f}, {5.0f, 4.0f, 3.0f},
-                                {0.0f, 4.0f, 4.0f}, {2.5f, -1.0f, 5.0f}, {2.5f, 5.0f, 6.0f}};
 
 }  // namespace
 
@@ -37,7 +35,7 @@ std::uint64_t section_loop_ekf() {
   cfg.motion.final_rot_sigma = 0.002f;
   cfg.ekf.additive_process_noise(2, 2) = 4.0e-6f;
   cfg.noise = {0.05f, 0.02f, 0.1f};
-  Configured::Estimator estimator(cfg, LandmarkMap(kLandmarks, 6));
+  Configured::Estimator estimator(cfg, LandmarkMap(kSmallLandmarks, kSmallLandmarkCount));
   estimator.initialize_at({1.0f, 1.0f, 0.0f}, 0.05f, 0.02f);
   Configured::Loop lp(estimator, Configured::kTiming);
 
@@ -47,7 +45,6 @@ std::uint64_t section_loop_ekf() {
   Rng world(9u);
   const float m_per_tick = diff_drive_m_per_tick(cfg.motion);
   Pose2 truth{1.0f, 1.0f, 0.0f};
-  constexpr loop::TimeNs kMs = 1000000;
   lp.push(loop::WheelTicksInput{0, {0, 0}, 2});
   loop::LandmarkInput late[6];
   std::int32_t n_late = 0;
@@ -62,12 +59,12 @@ std::uint64_t section_loop_ekf() {
     n_late = 0;
     if (k % 20 == 10) {
       for (std::int32_t j = 0; j < 6; ++j) {
-        const float dx = kLandmarks[j].x - truth.x, dy = kLandmarks[j].y - truth.y;
+        const float dx = kSmallLandmarks[j].x - truth.x, dy = kSmallLandmarks[j].y - truth.y;
         loop::LandmarkInput z;
         z.t_ns = k * 10 * kMs;
         z.range_m = fmath::sqrt(dx * dx + dy * dy) + sample_normal(world, 0.05f);
         z.bearing_rad = fmath::normalize_angle(fmath::atan2(dy, dx) - truth.theta + sample_normal(world, 0.02f));
-        z.signature = kLandmarks[j].signature + sample_normal(world, 0.1f);
+        z.signature = kSmallLandmarks[j].signature + sample_normal(world, 0.1f);
         z.id = (k / 20 + j) % 2 == 0 ? j : -1;
         if (k == 110 && j == 1) z.range_m += 3.0f;           // an outlier the gate refuses
         if (k == 150 && j == 2) z.range_m = __builtin_nanf("");  // a bad reading

@@ -19,6 +19,11 @@ constexpr Section kSections[] = {
     {"mcl", section_mcl, 0x25e68dec342c542eull},
     {"loop", section_loop, 0x275c96dbff3ca68bull},
     {"loop_ekf", section_loop_ekf, 0xf88f46bfa9fe531cull},
+    {"loop_velocity", section_loop_velocity, 0x68a50cd02699c7e3ull},
+    {"loop_odometry", section_loop_odometry, 0xc32ed37f35adf604ull},
+    {"loop_bicycle", section_loop_bicycle, 0x90887a3d1067bd82ull},
+    {"loop_omni", section_loop_omni, 0x3e907e424f4e37b4ull},
+    {"loop_holonomic", section_loop_holonomic, 0x1c686210d16283bcull},
 };
 
 }  // namespace

@@ -37,5 +37,10 @@ std::uint64_t section_ekf();
 std::uint64_t section_mcl();
 std::uint64_t section_loop();
 std::uint64_t section_loop_ekf();
+std::uint64_t section_loop_velocity();
+std::uint64_t section_loop_odometry();
+std::uint64_t section_loop_bicycle();
+std::uint64_t section_loop_omni();
+std::uint64_t section_loop_holonomic();
 
 }  // namespace est::selftest

@@ -45,6 +45,7 @@ CandumpStatus parse_candump_line(const char* line, std::size_t n, CanFrame& fram
     ++i;
   }
   if (digits != 6 || i >= n || line[i++] != ')') return CandumpStatus::bad_stamp;
+  if (sec > (INT64_MAX - (kNsPerS - 1)) / kNsPerS) return CandumpStatus::bad_stamp;  // beyond int64 nanoseconds
   stamp_ns = sec * kNsPerS + usec * 1000;
   // interface
   if (i >= n || line[i++] != ' ') return CandumpStatus::bad_interface;

@@ -11,9 +11,6 @@ namespace hal::maps {
 
 using est::OccupancyGridBuffer;
 using est::MapStatus;
-using est::kUnknownCell;
-using est::kOccupiedCell;
-using est::kFreeCell;
 
 namespace {
 
@@ -206,26 +203,18 @@ void image_to_grid(const PgmImage& img, const RosMapInfo& info, OccupancyGridBuf
                    " exceeds the grid capacity " + std::to_string(out.capacity_width()) + " x " +
                    std::to_string(out.capacity_height()));
   if (st != MapStatus::ok) fail(name, "grid rejected the map geometry");
-  const double maxval = img.maxval;
+  PixelRule rule;
+  rule.mode = info.mode;
+  rule.negate = info.negate;
+  rule.occupied_thresh = info.occupied_thresh;
+  rule.free_thresh = info.free_thresh;
+  rule.maxval = static_cast<std::uint32_t>(img.maxval);
   for (std::int32_t r = 0; r < img.height; ++r) {
-    const std::int32_t cy = img.height - 1 - r;
+    const std::int32_t cy = ros_map_grid_row(r, img.height);
     for (std::int32_t cx = 0; cx < img.width; ++cx) {
       const std::uint16_t v = img.pixels[static_cast<std::size_t>(r) * static_cast<std::size_t>(img.width) +
                                          static_cast<std::size_t>(cx)];
-      std::uint8_t cell = kUnknownCell;
-      if (info.mode == MapMode::raw) {
-        cell = v <= 100 ? static_cast<std::uint8_t>(v) : kUnknownCell;
-      } else {
-        const double p = info.negate ? v / maxval : (maxval - v) / maxval;
-        if (p > info.occupied_thresh) {
-          cell = kOccupiedCell;
-        } else if (p < info.free_thresh) {
-          cell = kFreeCell;
-        } else if (info.mode == MapMode::scale) {
-          const double s = 99.0 * (p - info.free_thresh) / (info.occupied_thresh - info.free_thresh);
-          cell = static_cast<std::uint8_t>(std::lround(s));
-        }
-      }
+      const std::uint8_t cell = ros_map_cell(v, rule);
       out.set(cx, cy, cell);
     }
   }

@@ -1,29 +1,48 @@
-// libFuzzer target: any frame through every decoder and the CAN receive path; decoded values re-encode to the same
-// values; the generic signal packer reads back what it wrote for any layout. Built by scripts/fuzz.
+// libFuzzer target: any frame through every decoder and the CAN receive path (WHEEL_TICKS pairing included);
+// decoded values re-encode to the same values; the generic signal packer reads back what it wrote for any layout;
+// the input as a candump line either is refused or formats back to a line that parses to the same frame. Built by
+// scripts/fuzz.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
 
 #include "hal/can/can_input.hpp"
-#include "hal/can/messages.hpp"
+#include "hal/can/candump.hpp"
+#include "hal/can/estimate_frames.hpp"
 #include "hal/can/signal.hpp"
+#include "hal/sensors/odometry/can.hpp"
+#include "hal/sensors/range_scan/can_frames.hpp"
+#include "hal/sensors/steering/can.hpp"
+#include "hal/sensors/twist/can.hpp"
+#include "hal/sensors/wheel_ticks/can.hpp"
 
 using namespace hal::can;
 
 namespace {
 
-struct NullPort final : hal::SensorPort {
-  void on_wheel_ticks(const hal::WheelTicks& s) override {
-    if (s.wheel_count != 2 || s.count[0] > 0xFFFF) __builtin_trap();
+// What the bus can deliver, checked per sample.
+struct NullPort final : hal::PortImplementation<NullPort, hal::SensorPort> {
+  void handle(const hal::WheelTicks& s) {
+    if (s.wheel_count > 7) __builtin_trap();  // WheelCount is 3 bits
+    for (std::uint32_t c : s.count)
+      if (c > 0xFFFF) __builtin_trap();
   }
-  void on_steering(const hal::SteeringSample& s) override {
+  void handle(const hal::SteeringSample& s) {
     if (!__builtin_isfinite(s.angle_rad)) __builtin_trap();
   }
-  void on_range_scan(const hal::RangeScanView& s) override {
+  void handle(const hal::TwistSample& s) {
+    if (!__builtin_isfinite(s.v1_mps) || !__builtin_isfinite(s.v2_mps) || !__builtin_isfinite(s.w_rps)) __builtin_trap();
+  }
+  void handle(const hal::OdometrySample& s) {
+    if (!s.pose.is_finite() || s.wrap_m != dbc::kOdometryWrapM) __builtin_trap();
+    if (s.pose.x < 0.0f || !(s.pose.x < s.wrap_m) || s.pose.y < 0.0f || !(s.pose.y < s.wrap_m)) __builtin_trap();
+    if (s.pose.theta > 3.1415927f || s.pose.theta < -3.1415927f) __builtin_trap();
+  }
+  void handle(const hal::RangeScanView& s) {
     for (std::size_t i = 0; i < s.count; ++i)
       if (s.ranges[i] != s.ranges[i]) __builtin_trap();  // the bus cannot produce NaN
   }
-  void on_landmarks(const hal::LandmarkSightingView&) override { __builtin_trap(); }  // CAN carries none
+  void handle(const hal::LandmarkSightingView&) { __builtin_trap(); }  // CAN carries none
 };
 
 template <typename Msg>
@@ -48,17 +67,30 @@ bool near(float a, float b, float step) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 11) return 0;
-  static const std::uint32_t ids[] = {dbc::kWheelTicksId,    dbc::kSteeringId,      dbc::kScanHeaderId,
+  static const std::uint32_t ids[] = {dbc::kWheelTicksId,    dbc::kSteeringId,      dbc::kWheelTicksExtId,
+                                      dbc::kTwistId,         dbc::kOdometryId,      dbc::kScanHeaderId,
                                       dbc::kScanInfoId,      dbc::kScanDataId,      dbc::kPoseEstimateId,
                                       dbc::kPoseSigmaId,     dbc::kPoseCorrelationId, dbc::kEstimatorStatusId,
                                       0x7FF};
+  constexpr std::size_t kIds = sizeof ids / sizeof ids[0];
   CanFrame f;
-  f.id = ids[data[0] % 10];
+  f.id = ids[data[0] % kIds];
   f.dlc = static_cast<std::uint8_t>(data[1] % 10 == 9 ? 8 : data[1] % 9);
   std::memcpy(f.data, data + 2, 8);
 
   roundtrip<WheelTicksMsg>(f, [](const WheelTicksMsg& a, const WheelTicksMsg& b) {
-    return a.ticks_left == b.ticks_left && a.ticks_right == b.ticks_right && a.counter == b.counter;
+    return a.ticks[0] == b.ticks[0] && a.ticks[1] == b.ticks[1] && a.wheel_count == b.wheel_count &&
+           a.counter == b.counter;
+  });
+  roundtrip<WheelTicksExtMsg>(f, [](const WheelTicksExtMsg& a, const WheelTicksExtMsg& b) {
+    return a.ticks[0] == b.ticks[0] && a.ticks[1] == b.ticks[1] && a.counter == b.counter;
+  });
+  roundtrip<TwistMsg>(f, [](const TwistMsg& a, const TwistMsg& b) {
+    return near(a.v1_mps, b.v1_mps, 1e-3f) && near(a.v2_mps, b.v2_mps, 1e-3f) && near(a.w_rps, b.w_rps, 1e-3f) &&
+           a.counter == b.counter;
+  });
+  roundtrip<OdometryMsg>(f, [](const OdometryMsg& a, const OdometryMsg& b) {
+    return a.x_mm == b.x_mm && a.y_mm == b.y_mm && a.theta == b.theta && a.counter == b.counter;
   });
   roundtrip<SteeringMsg>(f, [](const SteeringMsg& a, const SteeringMsg& b) {
     return near(a.angle_rad, b.angle_rad, 1e-4f) && a.counter == b.counter;
@@ -93,6 +125,26 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static ScanReassembler<32> scans;
   static CanInput input(scans, port);
   input.on_frame(f, static_cast<hal::TimeNs>(data[10]) * 1000);
+
+  // The input as one line of a candump log: refused with a reason, or a frame that formats back to a line that
+  // parses to the same frame and stamp.
+  {
+    CanFrame parsed;
+    hal::TimeNs stamp = 0;
+    const auto* text = reinterpret_cast<const char*>(data);
+    if (parse_candump_line(text, size, parsed, stamp) == CandumpStatus::ok) {
+      if (parsed.dlc > kMaxDlc || parsed.id > 0x7FFu || stamp < 0) __builtin_trap();
+      char line[kCandumpLineMax];
+      const std::size_t n = format_candump_line(parsed, stamp, "can0", line);
+      if (n == 0 || n > kCandumpLineMax || line[n - 1] != '\n') __builtin_trap();
+      CanFrame again;
+      hal::TimeNs stamp2 = -1;
+      if (parse_candump_line(line, n - 1, again, stamp2) != CandumpStatus::ok) __builtin_trap();
+      if (again.id != parsed.id || again.dlc != parsed.dlc || std::memcmp(again.data, parsed.data, parsed.dlc) != 0 ||
+          stamp2 != stamp)
+        __builtin_trap();
+    }
+  }
 
   // Any signal layout: what insert_raw writes, extract_raw reads back, and no bit outside the signal changes.
   if (size >= 24) {

@@ -1,5 +1,5 @@
 // libFuzzer target: any payload decoded as each est_lcm type through the guarded decoder, converted to HAL types
-// and judged by the HAL validators. A payload that decodes re-encodes to the same bytes (LCM is canonical).
+// and judged by the HAL validators (twists and odometry poses included). A payload that decodes re-encodes to the same bytes (LCM is canonical).
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -17,15 +17,24 @@ struct Clock final : hal::Clock {
   hal::TimeNs now_ns() override { return now; }
 };
 
-struct Sink final : hal::ValidatedSensorPort {
-  void on_wheel_motion(const hal::WheelTickDelta&) override {}
-  void on_steering(const hal::SteeringSample& s) override {
+// What passes the gate, checked per sample.
+struct Sink final : hal::PortImplementation<Sink, hal::ValidatedSensorPort> {
+  void handle(const hal::WheelTickDelta& d) {
+    if (d.wheel_count > hal::kMaxWheels) __builtin_trap();
+  }
+  void handle(const hal::SteeringSample& s) {
     if (!__builtin_isfinite(s.angle_rad)) __builtin_trap();
   }
-  void on_range_scan(const hal::RangeScanView& s) override {
+  void handle(const hal::TwistSample& s) {
+    if (!__builtin_isfinite(s.v1_mps) || !__builtin_isfinite(s.v2_mps) || !__builtin_isfinite(s.w_rps)) __builtin_trap();
+  }
+  void handle(const hal::OdometryDelta& d) {
+    if (!d.increment.is_finite() || d.dt_ns < 0) __builtin_trap();
+  }
+  void handle(const hal::RangeScanView& s) {
     if (!__builtin_isfinite(s.geometry.angle_increment_rad)) __builtin_trap();
   }
-  void on_landmarks(const hal::LandmarkSightingView& s) override {
+  void handle(const hal::LandmarkSightingView& s) {
     for (std::size_t i = 0; i < s.count; ++i)
       if (!__builtin_isfinite(s.features[i].range_m) || !(s.features[i].range_m > 0.0f)) __builtin_trap();
   }
@@ -59,7 +68,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static Clock clock;
   static Sink sink;
   static hal::ValidatedInputs gate(hal::InputLimits{}, clock, sink);
-  const std::uint8_t which = data[0] % 9;
+  const std::uint8_t which = data[0] % 11;
   g_prefix_fingerprint = (data[0] & 0x80) != 0;
   ++data;
   --size;
@@ -69,18 +78,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       est_lcm::encoder_ticks_t m;
       hal::WheelTicks w;
       if (decode_and_check(data, size, m, 4) && hal::lcm::to_hal(m, 16, w) == LcmReject::none)
-        gate.on_wheel_ticks(w);
+        gate.on(w);
       break;
     }
     case 1: {
       est_lcm::steering_t m;
-      if (decode_and_check(data, size, m, 0)) gate.on_steering(hal::lcm::to_hal(m));
+      if (decode_and_check(data, size, m, 0)) gate.on(hal::lcm::to_hal(m));
       break;
     }
     case 2: {
       est_lcm::range_scan_t m;
       hal::RangeScanView v;
-      if (decode_and_check(data, size, m, 2048) && hal::lcm::to_hal(m, v) == LcmReject::none) gate.on_range_scan(v);
+      if (decode_and_check(data, size, m, 2048) && hal::lcm::to_hal(m, v) == LcmReject::none) gate.on(v);
       break;
     }
     case 3: {
@@ -110,7 +119,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       static hal::LandmarkSighting<hal::kMaxLandmarkFeatures> sighting;
       if (decode_and_check(data, size, m, static_cast<std::int64_t>(hal::kMaxLandmarkFeatures)) &&
           hal::lcm::to_hal(m, sighting) == LcmReject::none)
-        gate.on_landmarks(sighting.view());
+        gate.on(sighting.view());
+      break;
+    }
+    case 8: {
+      est_lcm::twist_t m;
+      if (decode_and_check(data, size, m, 0)) gate.on(hal::lcm::to_hal(m));
+      break;
+    }
+    case 9: {
+      est_lcm::odometry_t m;
+      if (decode_and_check(data, size, m, 0)) gate.on(hal::lcm::to_hal(m));
       break;
     }
     default: {

@@ -6,8 +6,8 @@
 #include <cstring>
 #include <vector>
 
-#include "hal/can/scan_frames.hpp"
-#include "hal/can/scan_reassembler.hpp"
+#include "hal/sensors/range_scan/can_frames.hpp"
+#include "hal/sensors/range_scan/can_reassembler.hpp"
 
 using namespace hal::can;
 

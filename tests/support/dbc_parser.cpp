@@ -19,6 +19,12 @@ const DbcMessage* Dbc::message(std::uint32_t id) const {
   return nullptr;
 }
 
+DbcMessage* Dbc::message(std::uint32_t id) {
+  for (DbcMessage& m : messages)
+    if (m.id == id) return &m;
+  return nullptr;
+}
+
 std::string read_text_file(const std::string& path) {
   std::ifstream in(path);
   std::stringstream ss;
@@ -31,13 +37,32 @@ Dbc parse_dbc(const std::string& text) {
   static const std::regex sg(
       R"re(^\s+SG_\s+(\w+)\s*(\w*)\s*:\s*(\d+)\|(\d+)@([01])([+-])\s*\(\s*([^,\s]+)\s*,\s*([^)\s]+)\s*\)\s*)re"
       R"re(\[\s*([^|\s]+)\s*\|\s*([^\]\s]+)\s*\]\s*"([^"]*)"\s*(.*)$)re");
+  static const std::regex version(R"re(^VERSION\s+"([^"]*)"\s*$)re");
+  static const std::regex cm_network(R"re(^CM_\s+"([^"]*)"\s*;\s*$)re");
+  static const std::regex cm_message(R"re(^CM_\s+BO_\s+(\d+)\s+"([^"]*)"\s*;\s*$)re");
+  static const std::regex cm_signal(R"re(^CM_\s+SG_\s+(\d+)\s+(\w+)\s+"([^"]*)"\s*;\s*$)re");
+  static const std::regex ba_message(R"re(^BA_\s+"(\w+)"\s+BO_\s+(\d+)\s+([^;\s]+)\s*;\s*$)re");
+  static const std::regex val(R"re(^VAL_\s+(\d+)\s+(\w+)\s+.*;\s*$)re");
   Dbc dbc;
   std::istringstream lines(text);
   std::string line;
+  // Comments and attributes may come before the message they name is known: kept and applied at the end.
+  std::vector<std::string> later_lines;
   while (std::getline(lines, line)) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     std::smatch m;
-    if (line.rfind("BO_ ", 0) == 0) {
+    if (line.rfind("VERSION", 0) == 0) {
+      if (std::regex_match(line, m, version))
+        dbc.version = m[1];
+      else
+        dbc.errors.push_back(line);
+    } else if (line.rfind("BU_", 0) == 0) {
+      std::istringstream names(line.substr(line.find(':') == std::string::npos ? 3 : line.find(':') + 1));
+      std::string n;
+      while (names >> n) dbc.nodes.push_back(n);
+    } else if (line.rfind("CM_ ", 0) == 0 || line.rfind("BA_ ", 0) == 0 || line.rfind("VAL_ ", 0) == 0) {
+      later_lines.push_back(line);
+    } else if (line.rfind("BO_ ", 0) == 0) {
       if (!std::regex_match(line, m, bo)) {
         dbc.errors.push_back(line);
         continue;
@@ -72,6 +97,43 @@ Dbc parse_dbc(const std::string& text) {
         if (!r.empty()) s.receivers.push_back(r);
       }
       dbc.messages.back().signals.push_back(s);
+    }
+  }
+  for (const std::string& l : later_lines) {
+    std::smatch m;
+    if (std::regex_match(l, m, cm_network)) {
+      dbc.comment = m[1];
+    } else if (std::regex_match(l, m, cm_message)) {
+      DbcMessage* msg = dbc.message(static_cast<std::uint32_t>(std::stoul(m[1])));
+      if (msg == nullptr)
+        dbc.errors.push_back(l);
+      else
+        msg->comment = m[2];
+    } else if (std::regex_match(l, m, cm_signal)) {
+      DbcMessage* msg = dbc.message(static_cast<std::uint32_t>(std::stoul(m[1])));
+      DbcSignal* sig = nullptr;
+      if (msg != nullptr)
+        for (DbcSignal& s : msg->signals)
+          if (s.name == m[2]) sig = &s;
+      if (sig == nullptr)
+        dbc.errors.push_back(l);
+      else
+        sig->comment = m[3];
+    } else if (std::regex_match(l, m, ba_message)) {
+      DbcMessage* msg = dbc.message(static_cast<std::uint32_t>(std::stoul(m[2])));
+      if (msg == nullptr)
+        dbc.errors.push_back(l);
+      else
+        msg->attributes[m[1]] = m[3];
+    } else if (std::regex_match(l, m, val)) {
+      const auto id = static_cast<std::uint32_t>(std::stoul(m[1]));
+      const DbcMessage* msg = dbc.message(id);
+      if (msg == nullptr || msg->signal(m[2]) == nullptr)
+        dbc.errors.push_back(l);
+      else
+        dbc.value_tables.emplace_back(id, m[2]);
+    } else if (l.rfind("CM_ ", 0) == 0 || l.rfind("VAL_ ", 0) == 0) {
+      dbc.errors.push_back(l);  // a comment or value table of a kind this reader does not know
     }
   }
   return dbc;

@@ -59,17 +59,37 @@ OfficeStream write_office_stream(const std::string& path, const OfficeStreamSpec
   std::vector<float> ranges;
   hal::WheelTicks counters;
   counters.wheel_count = 2;
+  const est::DiffDriveParams base = office_robot_truth();
+  const float m_per_tick = est::diff_drive_m_per_tick(base);
+  hal::OdometrySample odometry;  // the base's integrated pose, in its own frame (starting at the origin)
   const int steps = static_cast<int>(spec.duration_s * 100.0);
   for (int k = 0; k <= steps; ++k) {
     const hal::TimeNs t = spec.t0_ns + k * kStep;
+    est::DiffDriveControl u{0, 0};
     if (k > 0) {
-      const est::DiffDriveControl u = robot.step(motion_rng);
+      u = robot.step(motion_rng);
       counters.count[0] += static_cast<std::uint32_t>(u.left_ticks);  // a 32-bit counter wraps
       counters.count[1] += static_cast<std::uint32_t>(u.right_ticks);
+      odometry.pose = est::DiffDriveMotionModel::predict(odometry.pose, u, base);
     }
     counters.stamp_ns = t;
     write(log, ch.wheel_ticks, t, hal::lcm::to_lcm(counters, 32));
     ++out.encoder_messages;
+    if (spec.twist && k > 0) {
+      // The twist of the last 10 ms as the encoders measured it, stamped at its start: held over (t - 10 ms, t] as
+      // a commanded twist would be.
+      const float left = static_cast<float>(u.left_ticks) * m_per_tick;
+      const float right = static_cast<float>(u.right_ticks) * m_per_tick;
+      const hal::TwistSample twist{t - kStep, 0.5f * (left + right) / kDt, 0.0f,
+                                   (right - left) / base.track_width / kDt};
+      write(log, ch.twist, t - kStep, hal::lcm::to_lcm(twist));
+      ++out.twist_messages;
+    }
+    if (spec.odometry) {
+      odometry.stamp_ns = t;
+      write(log, ch.odometry, t, hal::lcm::to_lcm(odometry));
+      ++out.odometry_messages;
+    }
     est_lcm::ground_truth_t g{};
     g.stamp_ns = t;
     g.x_m = robot.pose().x;

@@ -7,6 +7,8 @@ using namespace dbc;
 
 CodecStatus encode(const WheelTicksMsg& m, CanFrame& f) {
   FrameWriter w(f, kWheelTicksId, kWheelTicksSignals);
+  // WheelCount's DBC range is [1, 4], narrower than its 3 bits: FrameWriter::integer checks only the bits.
+  if (m.wheel_count < 1u || m.wheel_count > kMaxWheels) return CodecStatus::out_of_range;
   w.integer(kTicks0, m.ticks[0]);
   w.integer(kTicks1, m.ticks[1]);
   w.integer(kWheelCount, m.wheel_count);

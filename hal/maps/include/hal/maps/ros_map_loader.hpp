@@ -2,11 +2,9 @@
 // Host loaders that fill an est::OccupancyGridBuffer: ROS map_server maps (YAML + PGM) and bare trinary PGM maps.
 // Malformed input throws MapLoadError whose what() names the file and the reason.
 //
-// ROS map_server semantics (wiki.ros.org/map_server): image rows run top to bottom, so image row r is grid row
-// height - 1 - r; origin is the world pose of the lower-left pixel; a pixel's occupancy is
-// p = (maxval - v) / maxval (v / maxval when negate is 1); trinary: p > occupied_thresh -> occupied (100),
-// p < free_thresh -> free (0), else unknown (255); scale: the same ends and 99 (p - free) / (occ - free) between;
-// raw: the pixel value itself (0..100, anything else unknown). Images: PGM P5 (8 or 16 bit) and P2.
+// ROS map_server semantics (wiki.ros.org/map_server): origin is the world pose of the lower-left pixel; the pixel to
+// cell rule (image rows top to bottom, trinary / scale / raw) is hal/maps/ros_map_cell.hpp's, shared with the board
+// image's loader. Images: PGM P5 (8 or 16 bit) and P2.
 // Not supported, and rejected with a reason: origin yaw != 0, images other than PGM, colour images.
 #include <cstdint>
 #include <stdexcept>
@@ -14,6 +12,7 @@
 #include <vector>
 
 #include "est/map/occupancy_grid.hpp"
+#include "hal/maps/ros_map_cell.hpp"
 
 namespace hal::maps {
 
@@ -28,8 +27,6 @@ struct PgmImage {
   std::int32_t maxval = 0;
   std::vector<std::uint16_t> pixels;  // row-major, top row first
 };
-
-enum class MapMode { trinary, scale, raw };
 
 struct RosMapInfo {
   std::string image;  // as written in the YAML
