@@ -8,6 +8,7 @@
 #include "hal/fault.hpp"
 #include "hal/sensors/landmarks/landmarks.hpp"
 #include "hal/sample_timing.hpp"
+#include "hal/sample_validator.hpp"
 
 namespace hal {
 
@@ -18,30 +19,22 @@ struct LandmarkLimits {
   TimingLimits timing;
 };
 
-class LandmarkValidator {
+class LandmarkValidator : public SampleValidator<LandmarkLimits> {
  public:
   using Limits = LandmarkLimits;
   static constexpr const char* kName = "landmarks";
 
-  explicit LandmarkValidator(const LandmarkLimits& limits = {}) : limits_(limits), timing_(limits.timing) {}
+  explicit LandmarkValidator(const LandmarkLimits& limits = {}) : SampleValidator(limits) {}
 
   // The good features go to `out` (same stamp; it views the validator's own buffer, valid until the next check);
   // Fault::none when at least one passed.
   Fault check(const LandmarkSightingView& sighting, TimeNs now_ns, LandmarkSightingView& out);
 
-  const FaultCounters& faults() const { return faults_; }
   std::uint32_t features_accepted() const { return features_accepted_; }
 
  private:
-  Fault reject(Fault f) {
-    faults_.add(f);
-    return f;
-  }
   Fault check_feature(const LandmarkFeature& f) const;
 
-  LandmarkLimits limits_;
-  SampleTiming timing_;
-  FaultCounters faults_;
   std::uint32_t features_accepted_ = 0;
   LandmarkSighting<kMaxLandmarkFeatures> passed_;
 };

@@ -3,7 +3,7 @@
 // monotonic, and moving no faster than the base can (a jump is an odometry reset: rejected as out_of_range and
 // taken as the new reference, so one reset costs one interval, as a wheel counter's glitch does).
 #include "hal/fault.hpp"
-#include "hal/sample_timing.hpp"
+#include "hal/sample_validator.hpp"
 #include "hal/sensors/odometry/odometry.hpp"
 
 namespace hal {
@@ -16,27 +16,17 @@ struct OdometryLimits {
   TimingLimits timing;
 };
 
-class OdometryValidator {
+class OdometryValidator : public SampleValidator<OdometryLimits> {
  public:
   using Limits = OdometryLimits;
   static constexpr const char* kName = "odometry";
 
-  explicit OdometryValidator(const OdometryLimits& limits = {}) : limits_(limits), timing_(limits.timing) {}
+  explicit OdometryValidator(const OdometryLimits& limits = {}) : SampleValidator(limits) {}
 
   Fault check(const OdometrySample& sample, TimeNs now_ns, OdometryDelta& out);
 
-  const FaultCounters& faults() const { return faults_; }
-
  private:
-  Fault reject(Fault f) {
-    faults_.add(f);
-    return f;
-  }
-
-  OdometryLimits limits_;
-  SampleTiming timing_;
   OdometrySample last_;
-  FaultCounters faults_;
 };
 
 }  // namespace hal

@@ -8,6 +8,7 @@
 #include "hal/fault.hpp"
 #include "hal/sensors/range_scan/range_scan.hpp"
 #include "hal/sample_timing.hpp"
+#include "hal/sample_validator.hpp"
 
 namespace hal {
 
@@ -27,28 +28,20 @@ struct BeamCounters {
   std::uint32_t below_min = 0;
 };
 
-class RangeScanValidator {
+class RangeScanValidator : public SampleValidator<RangeScanLimits> {
  public:
   using Limits = RangeScanLimits;
   static constexpr const char* kName = "scan";
 
-  explicit RangeScanValidator(const RangeScanLimits& limits = {}) : limits_(limits), timing_(limits.timing) {}
+  explicit RangeScanValidator(const RangeScanLimits& limits = {}) : SampleValidator(limits) {}
 
   Fault check(const RangeScanView& scan, TimeNs now_ns, RangeScanView& out);
 
-  const FaultCounters& faults() const { return faults_; }
   const BeamCounters& beams() const { return beams_; }
 
  private:
-  Fault reject(Fault f) {
-    faults_.add(f);
-    return f;
-  }
   bool geometry_ok(const ScanGeometry& g, std::size_t count) const;
 
-  RangeScanLimits limits_;
-  SampleTiming timing_;
-  FaultCounters faults_;
   BeamCounters beams_;
 };
 

@@ -1,7 +1,7 @@
 #pragma once
 // Checks steering samples: finite, within the mechanical limit, fresh, monotonic.
 #include "hal/fault.hpp"
-#include "hal/sample_timing.hpp"
+#include "hal/sample_validator.hpp"
 #include "hal/sensors/steering/steering.hpp"
 
 namespace hal {
@@ -11,21 +11,14 @@ struct SteeringLimits {
   TimingLimits timing;
 };
 
-class SteeringValidator {
+class SteeringValidator : public SampleValidator<SteeringLimits> {
  public:
   using Limits = SteeringLimits;
   static constexpr const char* kName = "steering";
 
-  explicit SteeringValidator(const SteeringLimits& limits = {}) : limits_(limits), timing_(limits.timing) {}
+  explicit SteeringValidator(const SteeringLimits& limits = {}) : SampleValidator(limits) {}
 
   Fault check(const SteeringSample& sample, TimeNs now_ns, SteeringSample& out);
-
-  const FaultCounters& faults() const { return faults_; }
-
- private:
-  SteeringLimits limits_;
-  SampleTiming timing_;
-  FaultCounters faults_;
 };
 
 }  // namespace hal

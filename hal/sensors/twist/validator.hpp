@@ -1,7 +1,7 @@
 #pragma once
 // Checks twists: finite, within the base's speed and turn-rate limits, fresh, monotonic.
 #include "hal/fault.hpp"
-#include "hal/sample_timing.hpp"
+#include "hal/sample_validator.hpp"
 #include "hal/sensors/twist/twist.hpp"
 
 namespace hal {
@@ -12,21 +12,14 @@ struct TwistLimits {
   TimingLimits timing;
 };
 
-class TwistValidator {
+class TwistValidator : public SampleValidator<TwistLimits> {
  public:
   using Limits = TwistLimits;
   static constexpr const char* kName = "twist";
 
-  explicit TwistValidator(const TwistLimits& limits = {}) : limits_(limits), timing_(limits.timing) {}
+  explicit TwistValidator(const TwistLimits& limits = {}) : SampleValidator(limits) {}
 
   Fault check(const TwistSample& sample, TimeNs now_ns, TwistSample& out);
-
-  const FaultCounters& faults() const { return faults_; }
-
- private:
-  TwistLimits limits_;
-  SampleTiming timing_;
-  FaultCounters faults_;
 };
 
 }  // namespace hal

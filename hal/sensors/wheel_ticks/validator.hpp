@@ -3,7 +3,7 @@
 #include <cstdint>
 
 #include "hal/fault.hpp"
-#include "hal/sample_timing.hpp"
+#include "hal/sample_validator.hpp"
 #include "hal/sensors/wheel_ticks/wheel_ticks.hpp"
 
 namespace hal {
@@ -16,12 +16,12 @@ struct WheelTicksLimits {
   TimingLimits timing;
 };
 
-class WheelTicksValidator {
+class WheelTicksValidator : public SampleValidator<WheelTicksLimits> {
  public:
   using Limits = WheelTicksLimits;
   static constexpr const char* kName = "wheel_ticks";
 
-  explicit WheelTicksValidator(const WheelTicksLimits& limits = {}) : limits_(limits), timing_(limits.timing) {}
+  explicit WheelTicksValidator(const WheelTicksLimits& limits = {}) : SampleValidator(limits) {}
 
   // Fault::none: `out` holds the ticks since the previous accepted sample (zero ticks and dt for the first one, and
   // after a gap longer than max_gap_ns, whose motion is unknown: the loop sees the gap as an encoder timeout).
@@ -29,19 +29,8 @@ class WheelTicksValidator {
   // so one glitch costs one interval of odometry, not every sample after it.
   Fault check(const WheelTicks& sample, TimeNs now_ns, WheelTickDelta& out);
 
-  const FaultCounters& faults() const { return faults_; }
-  const WheelTicksLimits& limits() const { return limits_; }
-
  private:
-  Fault reject(Fault f) {
-    faults_.add(f);
-    return f;
-  }
-
-  WheelTicksLimits limits_;
-  SampleTiming timing_;
   WheelTicks last_;
-  FaultCounters faults_;
 };
 
 }  // namespace hal
