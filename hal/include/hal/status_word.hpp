@@ -6,19 +6,9 @@
 
 namespace hal::status {
 
-// Filter loop: one definition, the firmware's (est/loop/status.hpp); these are the same constants under hal's name.
-inline constexpr std::uint32_t kEncoderTimeout = est::loop::status::kEncoderTimeout;
-inline constexpr std::uint32_t kSteeringTimeout = est::loop::status::kSteeringTimeout;
-inline constexpr std::uint32_t kScanTimeout = est::loop::status::kScanTimeout;
-inline constexpr std::uint32_t kInputRejected = est::loop::status::kInputRejected;  // by the loop or the HAL
-inline constexpr std::uint32_t kFilterDegenerate = est::loop::status::kFilterDegenerate;
-inline constexpr std::uint32_t kDeadlineOverrun = est::loop::status::kDeadlineOverrun;
-inline constexpr std::uint32_t kNotInitialized = est::loop::status::kNotInitialized;
-inline constexpr std::uint32_t kInputTooOld = est::loop::status::kInputTooOld;
-inline constexpr std::uint32_t kQueueFull = est::loop::status::kQueueFull;
-inline constexpr std::uint32_t kLandmarkTimeout = est::loop::status::kLandmarkTimeout;
-inline constexpr std::uint32_t kTwistTimeout = est::loop::status::kTwistTimeout;
-inline constexpr std::uint32_t kOdometryTimeout = est::loop::status::kOdometryTimeout;
+// Filter loop: one definition, the firmware's (est/loop/status.hpp: kEncoderTimeout, kInputRejected, ... and each
+// input kind's staleness bit), under hal's name too.
+using namespace est::loop::status;
 
 // Transports.
 inline constexpr std::uint32_t kCanLinkDown = 1u << 16;       // interface missing or down; reconnecting
