@@ -1,10 +1,11 @@
 #pragma once
 // What the loop sections share: a sink that folds every published estimate into a digest, a step clock, the loop's
-// counters into a digest, and static storage for an estimator too big for the stack.
+// counters and the section's end into a digest, and static storage for an estimator too big for the stack.
 #include <cstdint>
 #include <new>
 #include <utility>
 
+#include "est/geometry/pose2.hpp"
 #include "est/loop/filter_loop.hpp"
 #include "est/util/digest.hpp"
 
@@ -40,6 +41,17 @@ inline void add_loop_counters(Digest& d, std::uint32_t outputs, const loop::Loop
   d.add_u32(c.too_old);
   d.add_u32(c.queue_full);
   d.add_u32(c.unused);
+}
+
+// The end of a per-model loop section: the loop's counters, what its filter counted, and the true pose.
+template <typename... Counts>
+inline void add_loop_end(Digest& d, std::uint32_t outputs, const loop::LoopCounters& c, const Pose2& truth,
+                         Counts... filter_counts) {
+  add_loop_counters(d, outputs, c);
+  (d.add_u32(filter_counts), ...);
+  d.add(truth.x);
+  d.add(truth.y);
+  d.add(truth.theta);
 }
 
 // A T in static storage (an MCL estimator's particle sets and KLD bins are ~60 KiB: more than a section should put

@@ -10,17 +10,11 @@
 namespace est::selftest {
 namespace {
 
-struct HolonomicRig {
-  using Model = HolonomicPoseMotionModel;
-  static constexpr loop::Filter kFilter = loop::Filter::mcl;
-  using ScanModel = loop::BeamScan<GridRayCaster>;  // the beam model with exact ray casting: the board's path
-  static constexpr std::uint32_t kMaxParticles = 200;
-  static constexpr std::int32_t kMaxBeams = kSmallScanBeams;
-  static constexpr std::uint32_t kQueueCapacity = 32;
-  static constexpr std::uint32_t kScanSlots = 2;
-  static constexpr loop::LoopTiming kTiming{};
-};
-using Configured = loop::ConfiguredLoop<HolonomicRig>;
+using Beam = loop::BeamScan<GridRayCaster>;  // the beam model with exact ray casting: the board's path
+constexpr std::uint32_t kParticles = 200;
+using Configured =
+    loop::ConfiguredLoop<loop::LoopConfig<HolonomicPoseMotionModel, loop::Filter::mcl, kParticles, kSmallScanBeams, 32u,
+                                          2u, Beam>>;
 
 }  // namespace
 
@@ -40,9 +34,9 @@ std::uint64_t section_loop_holonomic() {
   beam.sigma_hit = 0.1f;
   static BeamRangeFinderModel beam_model;
   beam_model.configure(beam);
-  StaticInstance<Configured::Estimator> estimator(cfg, 35u, HolonomicRig::ScanModel(world_map.caster, beam_model),
+  StaticInstance<Configured::Estimator> estimator(cfg, 35u, Beam(world_map.caster, beam_model),
                                                   world_map.free_space);
-  estimator->initialize_at({1.5f, 1.5f, 0.5f}, 0.1f, 0.05f, HolonomicRig::kMaxParticles);
+  estimator->initialize_at({1.5f, 1.5f, 0.5f}, 0.1f, 0.05f, kParticles);
   StaticInstance<Configured::Loop> lp(*estimator, Configured::kTiming);
 
   Digest d;
@@ -71,11 +65,7 @@ std::uint64_t section_loop_holonomic() {
     lp->run(clock, sink);
   }
   lp->flush(clock, sink);
-  add_loop_counters(d, sink.outputs, lp->counters());
-  d.add_u32(estimator->filter().counters().resamplings);
-  d.add(truth.x);
-  d.add(truth.y);
-  d.add(truth.theta);
+  add_loop_end(d, sink.outputs, lp->counters(), truth, estimator->filter().counters().resamplings);
   return d.value();
 }
 

@@ -9,16 +9,10 @@
 namespace est::selftest {
 namespace {
 
-struct OdometryRig {
-  using Model = OdometryMotionModel;
-  static constexpr loop::Filter kFilter = loop::Filter::mcl;
-  static constexpr std::uint32_t kMaxParticles = 200;
-  static constexpr std::int32_t kMaxBeams = kSmallScanBeams;
-  static constexpr std::uint32_t kQueueCapacity = 32;
-  static constexpr std::uint32_t kScanSlots = 2;
-  static constexpr loop::LoopTiming kTiming{};
-};
-using Configured = loop::ConfiguredLoop<OdometryRig>;
+constexpr std::uint32_t kParticles = 200;
+using Configured =
+    loop::ConfiguredLoop<loop::LoopConfig<OdometryMotionModel, loop::Filter::mcl, kParticles, kSmallScanBeams, 32u,
+                                          2u>>;
 
 }  // namespace
 
@@ -33,7 +27,7 @@ std::uint64_t section_loop_odometry() {
   cfg.beam_stride = 2;
   StaticInstance<Configured::Estimator> estimator(cfg, 31u, loop::LikelihoodFieldScan(world_map.field),
                                                   world_map.free_space);
-  estimator->initialize_at({1.0f, 1.0f, 0.0f}, 0.1f, 0.05f, OdometryRig::kMaxParticles);
+  estimator->initialize_at({1.0f, 1.0f, 0.0f}, 0.1f, 0.05f, kParticles);
   StaticInstance<Configured::Loop> lp(*estimator, Configured::kTiming);
 
   Digest d;
@@ -62,11 +56,7 @@ std::uint64_t section_loop_odometry() {
     lp->run(clock, sink);
   }
   lp->flush(clock, sink);
-  add_loop_counters(d, sink.outputs, lp->counters());
-  d.add_u32(estimator->filter().counters().resamplings);
-  d.add(truth.x);
-  d.add(truth.y);
-  d.add(truth.theta);
+  add_loop_end(d, sink.outputs, lp->counters(), truth, estimator->filter().counters().resamplings);
   return d.value();
 }
 

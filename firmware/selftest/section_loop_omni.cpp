@@ -9,15 +9,8 @@
 namespace est::selftest {
 namespace {
 
-struct OmniRig {
-  using Model = OmniMotionModel;
-  static constexpr loop::Filter kFilter = loop::Filter::ekf;
-  static constexpr std::int32_t kMaxBeams = 1;  // scans are not used
-  static constexpr std::uint32_t kQueueCapacity = 32;
-  static constexpr std::uint32_t kScanSlots = 1;
-  static constexpr loop::LoopTiming kTiming{};
-};
-using Configured = loop::ConfiguredLoop<OmniRig>;
+using Configured =  // scans are not used
+    loop::ConfiguredLoop<loop::LoopConfig<OmniMotionModel, loop::Filter::ekf, 0u, 1, 32u, 1u>>;
 using Source = loop::ControlAssembler<OmniMotionModel>::Source;
 
 constexpr float kMetresPerTick = 0.0005f;
@@ -82,13 +75,8 @@ std::uint64_t section_loop_omni() {
     lp.run(clock, sink);
   }
   lp.flush(clock, sink);
-  add_loop_counters(d, sink.outputs, lp.counters());
   const CorrectionCounters& r = estimator.filter().counters();
-  d.add_u32(r.accepted);
-  d.add_u32(r.gated_out);
-  d.add(truth.x);
-  d.add(truth.y);
-  d.add(truth.theta);
+  add_loop_end(d, sink.outputs, lp.counters(), truth, r.accepted, r.gated_out);
   return d.value();
 }
 

@@ -8,15 +8,8 @@
 namespace est::selftest {
 namespace {
 
-struct VelocityRig {
-  using Model = VelocityMotionModel;
-  static constexpr loop::Filter kFilter = loop::Filter::ekf;
-  static constexpr std::int32_t kMaxBeams = 1;  // scans are not used
-  static constexpr std::uint32_t kQueueCapacity = 32;
-  static constexpr std::uint32_t kScanSlots = 1;
-  static constexpr loop::LoopTiming kTiming{};
-};
-using Configured = loop::ConfiguredLoop<VelocityRig>;
+using Configured =  // scans are not used
+    loop::ConfiguredLoop<loop::LoopConfig<VelocityMotionModel, loop::Filter::ekf, 0u, 1, 32u, 1u>>;
 
 }  // namespace
 
@@ -56,13 +49,8 @@ std::uint64_t section_loop_velocity() {
     lp.run(clock, sink);
   }
   lp.flush(clock, sink);
-  add_loop_counters(d, sink.outputs, lp.counters());
   const CorrectionCounters& r = estimator.filter().counters();
-  d.add_u32(r.accepted);
-  d.add_u32(r.gated_out);
-  d.add(truth.x);
-  d.add(truth.y);
-  d.add(truth.theta);
+  add_loop_end(d, sink.outputs, lp.counters(), truth, r.accepted, r.gated_out);
   return d.value();
 }
 
