@@ -6,7 +6,24 @@
 namespace est::sim {
 namespace {
 
-float wrap(float a) { return std::remainder(a, 6.28318530717958647692f); }
+float wrap_angle(float a) { return std::remainder(a, 6.28318530717958647692f); }
+
+// The unicycle controller of the diff drive: turn towards the target, slow down while turning.
+void unicycle_command(RouteFollower& f, const Pose2& p, float speed, float& v, float& w) {
+  const Waypoint t = f.target(p.x, p.y);
+  const float e = wrap_angle(std::atan2(t.y - p.y, t.x - p.x) - p.theta);
+  w = std::clamp(2.5f * e, -1.5f, 1.5f);
+  v = speed * std::max(0.1f, std::cos(e));
+}
+
+// World-frame velocity towards the target at `speed`.
+void holonomic_command(RouteFollower& f, const Pose2& p, float speed, float& vx, float& vy) {
+  const Waypoint t = f.target(p.x, p.y);
+  const float dx = t.x - p.x, dy = t.y - p.y;
+  const float d = std::max(1e-6f, std::hypot(dx, dy));
+  vx = speed * dx / d;
+  vy = speed * dy / d;
+}
 
 }  // namespace
 
@@ -18,7 +35,7 @@ BicycleRobot::BicycleRobot(const Route& route, const Pose2& start, std::size_t n
 BicycleControl BicycleRobot::step(Rng& rng) {
   const Waypoint t = follower_.target(pose_.x, pose_.y);
   const float limit = 0.9f * params_.steer_max;
-  float a = std::clamp(wrap(std::atan2(t.y - pose_.y, t.x - pose_.x) - pose_.theta), -limit, limit);
+  float a = std::clamp(wrap_angle(std::atan2(t.y - pose_.y, t.x - pose_.x) - pose_.theta), -limit, limit);
   if (detents_ >= 2) {  // the nearest detent, stop to stop
     const float step = 2.0f * params_.steer_max / static_cast<float>(detents_ - 1);
     a = -params_.steer_max + step * std::round((a + params_.steer_max) / step);
@@ -38,10 +55,8 @@ DiffDriveRobot::DiffDriveRobot(const Route& route, const Pose2& start, std::size
     : follower_(route, next_waypoint, 0.4f), pose_(start), params_(truth_noise), speed_(speed), dt_(dt) {}
 
 DiffDriveControl DiffDriveRobot::step(Rng& rng) {
-  const Waypoint t = follower_.target(pose_.x, pose_.y);
-  const float e = wrap(std::atan2(t.y - pose_.y, t.x - pose_.x) - pose_.theta);
-  const float omega = std::clamp(2.5f * e, -1.5f, 1.5f);
-  const float v = speed_ * std::max(0.1f, std::cos(e));
+  float v = 0.0f, omega = 0.0f;
+  unicycle_command(follower_, pose_, speed_, v, omega);
   const float half_track = 0.5f * params_.track_width;
   const float m_per_tick = diff_drive_m_per_tick(params_);
   const DiffDriveControl u{static_cast<std::int32_t>(std::lround((v - omega * half_track) * dt_ / m_per_tick)),
@@ -55,29 +70,7 @@ void DiffDriveRobot::teleport(const Pose2& p, std::size_t next_waypoint) {
   follower_.set_next(next_waypoint);
 }
 
-}  // namespace est::sim
-
-namespace est::sim {
 namespace {
-
-float wrap_angle(float a) { return std::remainder(a, 6.28318530717958647692f); }
-
-// The unicycle controller of the diff drive: turn towards the target, slow down while turning.
-void unicycle_command(RouteFollower& f, const Pose2& p, float speed, float& v, float& w) {
-  const Waypoint t = f.target(p.x, p.y);
-  const float e = wrap_angle(std::atan2(t.y - p.y, t.x - p.x) - p.theta);
-  w = std::clamp(2.5f * e, -1.5f, 1.5f);
-  v = speed * std::max(0.1f, std::cos(e));
-}
-
-// World-frame velocity towards the target at `speed`, slowing within 1 m of a waypoint it must turn at.
-void holonomic_command(RouteFollower& f, const Pose2& p, float speed, float& vx, float& vy) {
-  const Waypoint t = f.target(p.x, p.y);
-  const float dx = t.x - p.x, dy = t.y - p.y;
-  const float d = std::max(1e-6f, std::hypot(dx, dy));
-  vx = speed * dx / d;
-  vy = speed * dy / d;
-}
 
 class BicycleSim final : public SimRobot {
  public:
@@ -128,11 +121,28 @@ class DiffDriveSim final : public SimRobot {
   float dt_;
 };
 
+// A robot that follows the route itself and keeps its own true pose.
+class RoutedSim : public SimRobot {
+ public:
+  const Pose2& pose() const override { return pose_; }
+  void teleport(const Pose2& p, std::size_t next) override {
+    pose_ = p;
+    follower_.set_next(next);
+  }
+
+ protected:
+  RoutedSim(const Route& r, const Pose2& s, std::size_t next, float speed)
+      : follower_(r, next, 0.4f), pose_(s), speed_(speed) {}
+  RouteFollower follower_;
+  Pose2 pose_;
+  float speed_;
+};
+
 // The velocity model's robot: a unicycle commanded in (v, w), moving by the velocity model's own noise.
-class VelocitySim final : public SimRobot {
+class VelocitySim final : public RoutedSim {
  public:
   VelocitySim(const Route& r, const Pose2& s, std::size_t next, const RobotTruth& t, float speed, float dt)
-      : follower_(r, next, 0.4f), pose_(s), params_(t.velocity), speed_(speed) {
+      : RoutedSim(r, s, next, speed), params_(t.velocity) {
     params_.dt = dt;
   }
   RobotStep step(Rng& rng) override {
@@ -144,26 +154,16 @@ class VelocitySim final : public SimRobot {
     out.w_rps = w;
     return out;
   }
-  const Pose2& pose() const override { return pose_; }
-  void teleport(const Pose2& p, std::size_t next) override {
-    pose_ = p;
-    follower_.set_next(next);
-  }
-
  private:
-  RouteFollower follower_;
-  Pose2 pose_;
   VelocityParams params_;
-  float speed_;
 };
 
 // The omnidirectional base: drives towards each waypoint in the world frame while its heading swings on its own
 // (a slow sinusoid about the start heading), so it moves sideways and diagonally; four mecanum wheels.
-class OmniSim final : public SimRobot {
+class OmniSim final : public RoutedSim {
  public:
   OmniSim(const Route& r, const Pose2& s, std::size_t next, const RobotTruth& t, float speed, float dt, double mpt)
-      : follower_(r, next, 0.4f), pose_(s), params_(t.omni), wheels_(t.omni_wheels), speed_(speed), dt_(dt),
-        heading0_(s.theta), mpt_(mpt) {
+      : RoutedSim(r, s, next, speed), params_(t.omni), wheels_(t.omni_wheels), dt_(dt), heading0_(s.theta), mpt_(mpt) {
     params_.dt = dt;
   }
   RobotStep step(Rng& rng) override {
@@ -189,27 +189,19 @@ class OmniSim final : public SimRobot {
     out.w_rps = u.w;
     return out;
   }
-  const Pose2& pose() const override { return pose_; }
-  void teleport(const Pose2& p, std::size_t next) override {
-    pose_ = p;
-    follower_.set_next(next);
-  }
-
  private:
-  RouteFollower follower_;
-  Pose2 pose_;
   OmniParams params_;
   OmniWheels wheels_;
-  float speed_, dt_, heading0_, time_ = 0.0f;
+  float dt_, heading0_, time_ = 0.0f;
   double mpt_;
 };
 
 // The holonomic point robot: x and y driven independently in its own frame, never turning (its heading is the
 // start's for the whole run, whatever the route does).
-class HolonomicSim final : public SimRobot {
+class HolonomicSim final : public RoutedSim {
  public:
   HolonomicSim(const Route& r, const Pose2& s, std::size_t next, const RobotTruth& t, float speed, float dt)
-      : follower_(r, next, 0.4f), pose_(s), params_(t.holonomic), speed_(speed) {
+      : RoutedSim(r, s, next, speed), params_(t.holonomic) {
     params_.point.B = Eigen::Matrix2f::Identity() * dt;
   }
   RobotStep step(Rng& rng) override {
@@ -224,16 +216,10 @@ class HolonomicSim final : public SimRobot {
     return out;
   }
   const Pose2& pose() const override { return pose_; }
-  void teleport(const Pose2& p, std::size_t next) override {
-    pose_ = {p.x, p.y, pose_.theta};
-    follower_.set_next(next);
-  }
+  void teleport(const Pose2& p, std::size_t next) override { RoutedSim::teleport({p.x, p.y, pose_.theta}, next); }
 
  private:
-  RouteFollower follower_;
-  Pose2 pose_;
   HolonomicPoseParams params_;
-  float speed_;
 };
 
 }  // namespace

@@ -99,18 +99,25 @@ ScanReassemblerBase::Result ScanReassemblerBase::on_header(const CanFrame& frame
   return result;
 }
 
+bool ScanReassemblerBase::stops_before(std::uint8_t scan_id, Result& out) {
+  if (state_ == State::idle) {
+    out = count(ScanReject::orphan_frame);
+  } else if (scan_id != scan_id_) {
+    out = in_progress() ? Result{false, abort(ScanReject::interleaved)} : count(ScanReject::orphan_frame);
+  } else if (state_ == State::discarding) {
+    ++frames_dropped_;
+    out = {};
+  } else {
+    return false;
+  }
+  return true;
+}
+
 ScanReassemblerBase::Result ScanReassemblerBase::on_info(const CanFrame& frame) {
   ScanInfoMsg m;
   (void)decode(frame, m);
-  if (state_ == State::idle) return count(ScanReject::orphan_frame);
-  if (m.scan_id != scan_id_) {
-    if (in_progress()) return {false, abort(ScanReject::interleaved)};
-    return count(ScanReject::orphan_frame);
-  }
-  if (state_ == State::discarding) {
-    ++frames_dropped_;
-    return {};
-  }
+  Result stop;
+  if (stops_before(m.scan_id, stop)) return stop;
   if (state_ != State::want_info) {
     if (same_bytes(frame.data, info_bytes_)) return count(ScanReject::duplicate_frame);
     return {false, in_progress() ? abort(ScanReject::sequence_gap) : ScanReject::none};
@@ -127,15 +134,8 @@ ScanReassemblerBase::Result ScanReassemblerBase::on_info(const CanFrame& frame) 
 ScanReassemblerBase::Result ScanReassemblerBase::on_data(const CanFrame& frame) {
   ScanDataMsg m;
   (void)decode(frame, m);
-  if (state_ == State::idle) return count(ScanReject::orphan_frame);
-  if (m.scan_id != scan_id_) {
-    if (in_progress()) return {false, abort(ScanReject::interleaved)};
-    return count(ScanReject::orphan_frame);
-  }
-  if (state_ == State::discarding) {
-    ++frames_dropped_;
-    return {};
-  }
+  Result stop;
+  if (stops_before(m.scan_id, stop)) return stop;
   if (state_ == State::complete) return count(ScanReject::duplicate_frame);
   if (state_ == State::want_info) return {false, abort(ScanReject::sequence_gap)};
   if (m.seq < next_seq_) return count(ScanReject::duplicate_frame);

@@ -69,6 +69,9 @@ class ScanReassemblerBase {
   bool in_progress() const { return state_ == State::want_info || state_ == State::want_data; }
   ScanReject abort(ScanReject why);
   Result on_header(const CanFrame& frame, TimeNs stamp_ns);
+  // What an info or data frame meets before its own checks: no scan begun, another scan's frame, or a scan being
+  // discarded. True, with the frame's result in `out`, when it stops there.
+  bool stops_before(std::uint8_t scan_id, Result& out);
   Result on_info(const CanFrame& frame);
   Result on_data(const CanFrame& frame);
   Result count(ScanReject why) {
