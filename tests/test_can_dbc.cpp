@@ -126,6 +126,16 @@ std::string replace_once(std::string text, const std::string& from, const std::s
   return text.replace(at, from.size(), to);
 }
 
+// A signal of a frame decoded with the DBC alone (its message found by id, its length checked).
+double dbc_value(const Dbc& dbc, const CanFrame& f, const char* signal) {
+  const DbcMessage* m = dbc.message(f.id);
+  REQUIRE(m != nullptr);
+  REQUIRE(f.dlc == m->dlc);
+  const DbcSignal* s = m->signal(signal);
+  REQUIRE(s != nullptr);
+  return est::test::dbc_decode(*s, f.data);
+}
+
 }  // namespace
 
 TEST_CASE("the DBC file parses and every message and signal matches the codec's tables", "[can][dbc]") {
@@ -184,14 +194,7 @@ TEST_CASE("a change on one side only is caught: id, length, start bit, byte orde
 
 TEST_CASE("frames from the codec decode with the DBC alone to the values encoded", "[can][dbc]") {
   const Dbc dbc = est::test::parse_dbc(dbc_text());
-  auto value = [&](const CanFrame& f, const char* signal) {
-    const DbcMessage* m = dbc.message(f.id);
-    REQUIRE(m != nullptr);
-    REQUIRE(f.dlc == m->dlc);
-    const DbcSignal* s = m->signal(signal);
-    REQUIRE(s != nullptr);
-    return est::test::dbc_decode(*s, f.data);
-  };
+  auto value = [&](const CanFrame& f, const char* signal) { return dbc_value(dbc, f, signal); };
   CanFrame f;
   REQUIRE(encode(WheelTicksMsg{{65535, 7}, 2, 9}, f) == CodecStatus::ok);
   CHECK(value(f, "Ticks0") == 65535);
@@ -288,14 +291,7 @@ TEST_CASE("a DBC missing a comment, a cycle time, a node or its version is caugh
 
 TEST_CASE("WHEEL_TICKS(+EXT), TWIST and ODOMETRY frames decode with the DBC alone to the values encoded", "[can][dbc]") {
   const Dbc dbc = est::test::parse_dbc(dbc_text());
-  auto value = [&](const CanFrame& f, const char* signal) {
-    const DbcMessage* m = dbc.message(f.id);
-    REQUIRE(m != nullptr);
-    REQUIRE(f.dlc == m->dlc);
-    const DbcSignal* s = m->signal(signal);
-    REQUIRE(s != nullptr);
-    return est::test::dbc_decode(*s, f.data);
-  };
+  auto value = [&](const CanFrame& f, const char* signal) { return dbc_value(dbc, f, signal); };
   hal::WheelTicks four;
   four.stamp_ns = 5;
   four.wheel_count = 4;
