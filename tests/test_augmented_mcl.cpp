@@ -231,3 +231,205 @@ TEST_CASE("correct_batch gives the bits of correct; predict_batch refuses and co
   CHECK(b.counters().rejected_controls == 1u);
   CHECK(b.counters().predictions == 1u);
 }
+
+namespace {
+
+// The beacon ranges measured `copies` times over: a measurement of 3 * copies factors, each at most e^0.
+auto repeated_beacons(const Ranges& z, int copies) {
+  return [z, copies](const est::Pose2& p) { return static_cast<float>(copies) * beacon_model(z)(p); };
+}
+est::MeasurementScale beacon_scale(int copies) { return {3 * copies, 0.0f}; }
+
+// Every particle gets the same log-likelihood: the per-factor fit is exactly `fit`.
+auto uniform_fit(float fit, int factors) {
+  return [fit, factors](const est::Pose2&) { return fit * static_cast<float>(factors); };
+}
+
+}  // namespace
+
+TEST_CASE("with a measurement scale the recovery statistic is the per-beam fit and starts from a perfect fit",
+          "[mcl]") {
+  est::MclConfig cfg;
+  static est::AugmentedMcl<500> mcl(cfg, 31u);
+  mcl.initialize_gaussian({4.0f, 4.0f, 0.0f}, 0.2f, 0.05f, 500);
+  est::Rng world(3u);
+  const auto r = mcl.correct(repeated_beacons(measure({4.0f, 4.0f, 0.0f}, &world), 20), beacon_scale(20));
+  CHECK(r.fit == Approx(r.log_mean_likelihood / 60.0f).epsilon(1e-5));
+  CHECK(r.fit <= 0.0f);
+  // Lines 10-11 from w_slow = w_fast = 1 (a perfect fit), not from the first value.
+  const double w = std::exp(static_cast<double>(r.fit));
+  const double as = static_cast<double>(cfg.alpha_slow), af = static_cast<double>(cfg.alpha_fast);
+  CHECK(mcl.log_w_slow() == Approx(std::log(1.0 - as + as * w)).margin(1e-5));
+  CHECK(mcl.log_w_fast() == Approx(std::log(1.0 - af + af * w)).margin(1e-5));
+  // Without a scale: the book's log w_avg, and the averages start there.
+  static est::AugmentedMcl<500> book(cfg, 31u);
+  book.initialize_gaussian({4.0f, 4.0f, 0.0f}, 0.2f, 0.05f, 500);
+  const auto rb = book.correct(repeated_beacons(measure({4.0f, 4.0f, 0.0f}, nullptr), 20));
+  CHECK(rb.fit == rb.log_mean_likelihood);
+  CHECK(book.log_w_slow() == rb.log_mean_likelihood);
+}
+
+TEST_CASE("a scan that changes size changes w_avg by many nats but injects nothing with the per-beam fit",
+          "[mcl]") {
+  // Tracking a robot standing still while the number of readings alternates between 30 and 60 (max readings
+  // skipped, beams on clutter...): the scan's log-likelihood halves and doubles, its per-beam fit does not move.
+  const auto run = [](bool per_beam) {
+    est::MclConfig cfg;
+    cfg.alpha_slow = 0.02f;
+    cfg.alpha_fast = 0.3f;
+    static est::AugmentedMcl<1000> mcl(cfg, 1u);
+    mcl = est::AugmentedMcl<1000>(cfg, 41u);
+    mcl.initialize_gaussian({3.0f, 5.0f, 0.0f}, 0.05f, 0.02f, 1000);
+    est::Rng world(8u);
+    const est::Pose2 truth{3.0f, 5.0f, 0.0f};
+    for (int t = 0; t < 60; ++t) {
+      mcl.predict<Walk>({0.0f, 0.0f, 0.0f}, {0.02f, 0.01f});
+      const int copies = t % 2 == 0 ? 10 : 20;
+      const Ranges z = measure(truth, &world);
+      if (per_beam)
+        mcl.correct(repeated_beacons(z, copies), beacon_scale(copies));
+      else
+        mcl.correct(repeated_beacons(z, copies));
+      mcl.resample(uniform_box);
+    }
+    return mcl.counters().injected_particles;
+  };
+  const std::uint32_t per_beam = run(true), book = run(false);
+  INFO("injected: per-beam fit " << per_beam << ", the book's w_avg " << book);
+  CHECK(per_beam == 0u);
+  CHECK(book > 1000u);  // the book's statistic injects on most resamplings
+}
+
+TEST_CASE("a lost scan injects at once, a mild deficit only after the patience, a fine fit never", "[mcl]") {
+  est::MclConfig cfg;
+  cfg.alpha_slow = 0.02f;
+  cfg.alpha_fast = 0.3f;
+  constexpr int kFactors = 60;
+  const auto settle = [&](est::AugmentedMcl<200>& mcl) {
+    mcl.initialize_gaussian({5.0f, 5.0f, 0.0f}, 0.1f, 0.05f, 200);
+    for (int t = 0; t < 30; ++t) {  // tracking at a fit of -0.05 nats per beam
+      mcl.correct(uniform_fit(-0.05f, kFactors), {kFactors, 0.0f});
+      CHECK(mcl.injection_probability() == 0.0f);
+      mcl.resample(uniform_box);
+    }
+  };
+  static est::AugmentedMcl<200> mcl(cfg, 5u);
+  mcl = est::AugmentedMcl<200>(cfg, 5u);
+  settle(mcl);
+  CHECK(mcl.counters().injected_particles == 0u);
+
+  // Lost: every beam ~2 nats below the peak.
+  mcl.correct(uniform_fit(-2.0f, kFactors), {kFactors, 0.0f});
+  CHECK(mcl.last_deficit() >= cfg.recovery_lost_deficit);
+  CHECK(mcl.injection_probability() > 0.0f);
+
+  // Mild: 0.6 nats per beam below, for longer than the patience.
+  mcl = est::AugmentedMcl<200>(cfg, 6u);
+  settle(mcl);
+  int first_injection = -1;
+  for (int t = 0; t < 3 * static_cast<int>(cfg.recovery_patience) && first_injection < 0; ++t) {
+    mcl.correct(uniform_fit(-0.6f, kFactors), {kFactors, 0.0f});
+    CHECK(mcl.last_deficit() < cfg.recovery_lost_deficit);
+    if (mcl.injection_probability() > 0.0f) first_injection = t;
+    mcl.resample(uniform_box);
+  }
+  INFO("first injection after " << first_injection << " mild corrections");
+  CHECK(first_injection >= static_cast<int>(cfg.recovery_patience) - 1);
+  CHECK(first_injection < 2 * static_cast<int>(cfg.recovery_patience));
+}
+
+TEST_CASE("when the injected particles take the weight the filter holds the injection while the fit improves",
+          "[mcl]") {
+  est::MclConfig cfg;
+  cfg.alpha_slow = 0.02f;
+  cfg.alpha_fast = 0.3f;
+  constexpr int kFactors = 60;
+  static est::AugmentedMcl<1000> mcl(cfg, 9u);
+  mcl = est::AugmentedMcl<1000>(cfg, 9u);
+  mcl.initialize_gaussian({2.0f, 2.0f, 0.0f}, 0.1f, 0.05f, 1000);
+  for (int t = 0; t < 20; ++t) {
+    mcl.correct(uniform_fit(-0.05f, kFactors), {kFactors, 0.0f});
+    mcl.resample(uniform_box);
+  }
+  // Kidnapped into the half x > 5: the old cloud (x ~ 2) misses every beam by 3 nats, x > 5 fits, better the
+  // closer to (7.5, 6).
+  const auto kidnapped = [](const est::Pose2& p) {
+    const float d2 = (p.x - 7.5f) * (p.x - 7.5f) + (p.y - 6.0f) * (p.y - 6.0f);
+    return static_cast<float>(kFactors) * (p.x > 5.0f ? -0.1f - 0.1f * d2 : -3.0f);
+  };
+  mcl.correct(kidnapped, {kFactors, 0.0f});
+  REQUIRE(mcl.injection_probability() > 0.0f);  // lost: inject at once
+  mcl.resample(uniform_box);
+  REQUIRE(mcl.counters().injected_particles > 0u);
+  const std::uint32_t injected = mcl.counters().injected_particles;
+  mcl.correct(kidnapped, {kFactors, 0.0f});
+  CHECK(mcl.last_found());                        // the random particles in x > 5 took the weight
+  CHECK(mcl.injection_probability() == 0.0f);     // held: the found cloud converges without random particles
+  mcl.resample(uniform_box);
+  CHECK(mcl.counters().injected_particles == injected);
+  CHECK(mcl.cluster_estimate().strongest.mean.x > 5.0f);
+}
+
+TEST_CASE("KLD resampling counts the bins of the samples drawn, not of the weighted set", "[mcl][kld]") {
+  // 5000 particles over the whole box, nearly all the weight within 5 cm of (5, 5): the draws fall in one or two
+  // bins, so table 8.4 asks for n_min. (Counting the bins of the weighted set, as before, asked for all 5000.)
+  est::MclConfig cfg;
+  cfg.kld = true;
+  cfg.recovery = false;
+  cfg.kld_config.n_min = 150;
+  static est::AugmentedMcl<5000> mcl(cfg, 12u);
+  mcl = est::AugmentedMcl<5000>(cfg, 12u);
+  mcl.initialize_global(uniform_box, 5000);
+  auto v = mcl.particles_mutable();
+  v.x[0] = 5.0f;
+  v.y[0] = 5.0f;
+  v.theta[0] = 0.01f;
+  mcl.correct([](const est::Pose2& p) {
+    const float d2 = (p.x - 5.0f) * (p.x - 5.0f) + (p.y - 5.0f) * (p.y - 5.0f);
+    return -2000.0f * d2;
+  });
+  REQUIRE(mcl.resample(uniform_box, true));
+  CHECK(mcl.particles().count == cfg.kld_config.n_min);
+  CHECK(mcl.counters().drawn_particles == cfg.kld_config.n_min);
+}
+
+TEST_CASE("random draws open new bins and take KLD's count to the capacity", "[mcl][kld]") {
+  est::MclConfig cfg;
+  cfg.kld = true;
+  static est::AugmentedMcl<3000> mcl(cfg, 13u);
+  mcl = est::AugmentedMcl<3000>(cfg, 13u);
+  mcl.initialize_gaussian({5.0f, 5.0f, 0.0f}, 0.05f, 0.02f, 500);
+  mcl.correct([](const est::Pose2&) { return std::numeric_limits<float>::quiet_NaN(); });  // forces recovery
+  REQUIRE(mcl.injection_probability() == Approx(cfg.max_injection_fraction));
+  REQUIRE(mcl.resample(uniform_box));
+  CHECK(mcl.particles().count == 3000u);
+  const double share = static_cast<double>(mcl.counters().injected_particles) / 3000.0;
+  CHECK(share == Approx(cfg.max_injection_fraction).margin(0.05));
+}
+
+TEST_CASE("KLD resampling keeps the low-variance sampler's copy counts", "[mcl][kld]") {
+  // Three particles in three bins with weights 0.5, 0.3, 0.2: table 8.4 asks for n_min = 100 and the comb draws
+  // each floor or ceil of 100 w_i times.
+  est::MclConfig cfg;
+  cfg.kld = true;
+  cfg.recovery = false;
+  cfg.kld_config.n_min = 100;
+  static est::AugmentedMcl<200> mcl(cfg, 14u);
+  mcl = est::AugmentedMcl<200>(cfg, 14u);
+  mcl.initialize_gaussian({0.0f, 0.0f, 0.0f}, 0.0f, 0.0f, 3);
+  auto v = mcl.particles_mutable();
+  const float xs[3] = {1.0f, 4.0f, 7.0f}, ws[3] = {0.5f, 0.3f, 0.2f};
+  for (int i = 0; i < 3; ++i) {
+    v.x[i] = xs[i];
+    v.y[i] = 1.0f;
+    v.theta[i] = 0.0f;
+    v.log_w[i] = std::log(ws[i]);
+  }
+  REQUIRE(mcl.resample(uniform_box, true));
+  const auto p = mcl.particles();
+  REQUIRE(p.count == 100u);
+  int copies[3] = {0, 0, 0};
+  for (std::uint32_t i = 0; i < p.count; ++i)
+    for (int k = 0; k < 3; ++k) copies[k] += p.x[i] == xs[k] ? 1 : 0;
+  for (int k = 0; k < 3; ++k) CHECK(std::abs(copies[k] - static_cast<int>(100.0f * ws[k])) <= 1);
+}

@@ -85,6 +85,23 @@ TEST_CASE("beam model density matches a double-precision reference of table 6.1"
   CHECK(m.density(50.0f, 2.0f) == m.density(8.0f, 2.0f));
 }
 
+TEST_CASE("beam model: log_peak is the density of a reading where a correct pose puts it", "[beam_model]") {
+  // The origin of augmented MCL's per-beam recovery statistic (est/loop/beam_scan.hpp beam_scale). Without p_short
+  // (which it leaves out): a reading at its expected range mid-range, and a max reading on a ray with no hit.
+  est::BeamModelParams p;
+  p.z_hit = 0.85f;
+  p.z_short = 0.0f;
+  p.z_max = 0.05f;
+  p.z_rand = 0.10f;
+  est::BeamRangeFinderModel m;
+  REQUIRE(m.configure(p) == est::SensorModelStatus::ok);
+  CHECK(m.log_peak(false) == Approx(m.log_density(6.0f, 6.0f)).margin(1e-6));
+  CHECK(m.log_peak(true) == Approx(m.log_density(p.range_max, p.range_max)).margin(1e-6));
+  // Away from z* the density is lower.
+  CHECK(m.log_density(6.3f, 6.0f) < m.log_peak(false));
+  CHECK(m.log_density(6.0f, p.range_max) < m.log_peak(false));
+}
+
 TEST_CASE("beam model parameters are validated", "[beam_model]") {
   est::BeamRangeFinderModel m;
   est::BeamModelParams p;

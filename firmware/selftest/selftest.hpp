@@ -35,6 +35,7 @@ std::uint64_t section_beam_table();
 std::uint64_t section_motion_a();
 std::uint64_t section_ekf();
 std::uint64_t section_mcl();
+std::uint64_t section_mcl_recovery();
 std::uint64_t section_loop();
 std::uint64_t section_loop_ekf();
 std::uint64_t section_loop_velocity();

@@ -68,8 +68,13 @@ struct EstimatorSpec {
   std::int32_t heading_bins = 64;   // the beam model's heading range table on the host
   std::int32_t beam_stride = 4;
 
-  // MCL.
-  est::MclConfig mcl{};
+  // MCL; the averages' rates as sim_host simulate's (sim/simulate.hpp FilterOptions: per scan).
+  est::MclConfig mcl = [] {
+    est::MclConfig c;
+    c.alpha_slow = 0.005f;
+    c.alpha_fast = 0.3f;
+    return c;
+  }();
   std::uint32_t particles = 1000;
   std::uint64_t seed = 1;
   float clearance_m = 0.2f;

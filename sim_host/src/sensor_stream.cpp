@@ -444,8 +444,24 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
   for (int k = 0; k < steps; ++k) {
     const hal::TimeNs t = kSimStartNs + static_cast<hal::TimeNs>(k) * kSimStepNs;
     if (k == kidnap_step) {
-      const std::size_t seg = nearest_segment(route, pose()) + 3;
+      // Onto the route 3 or more segments ahead, 30 % into the segment: the first such pose at least
+      // kKidnapMinDistanceM away (far beyond the localized bound, so the filter must lose and regain its estimate),
+      // else the farthest of them.
+      const est::Pose2 from = pose();
+      const std::size_t here = nearest_segment(route, from);
+      std::size_t seg = here + 3;
+      double best = -1.0;
+      for (std::size_t ahead = 3; ahead < 3 + route.size(); ++ahead) {
+        const est::Pose2 q = route.pose_on_segment((here + ahead) % route.size(), 0.3f);
+        const double d = std::hypot(static_cast<double>(q.x - from.x), static_cast<double>(q.y - from.y));
+        if (d > best) {
+          best = d;
+          seg = here + ahead;
+        }
+        if (d >= kKidnapMinDistanceM) break;
+      }
       const est::Pose2 to = route.pose_on_segment(seg % route.size(), 0.3f);
+      s.kidnap_distance_m = best;
       robot->teleport(to, seg + 1);
       s.kidnap_ns = t;
       s.faults.push_back({t, "event.kidnap", "-", 1, "", 0});

@@ -98,7 +98,13 @@ void run_stream(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorl
       row.sigma_y_m = std::sqrt(std::max(0.0f, e.covariance(1, 1)));
       row.sigma_theta_rad = std::sqrt(std::max(0.0f, e.covariance(2, 2)));
       row.cov_xy_m2 = e.covariance(0, 1);
-      if (mcl) row.particles = pipeline->particles().count;
+      if (mcl) {
+        row.particles = pipeline->particles().count;
+        if (const est::MclCounters* c = pipeline->mcl_counters()) {
+          row.drawn_particles = c->drawn_particles;
+          row.injected_particles = c->injected_particles;
+        }
+      }
       row.status = e.status & ~hal::status::kDeadlineOverrun;
       row.rejected_inputs = e.rejected_inputs;
       r->rows.push_back(row);
@@ -187,17 +193,39 @@ SimMetrics compute_metrics(const SimResult& r, const FilterOptions& fo) {
   for (std::size_t i = 0; i < starts.size(); ++i) {
     const hal::TimeNs from = starts[i].first;
     const hal::TimeNs to = i + 1 < starts.size() ? starts[i + 1].first : s.end_ns + 1;
+    const bool kidnap = s.kidnap_ns >= 0 && from == s.kidnap_ns;
     PhaseMetrics ph;
     ph.name = starts[i].second;
     ph.start_s = span_s(from - t0);
     ph.end_s = span_s(std::min(to, s.end_ns) - t0);
-    const std::size_t first = localized_at(r.rows, from, to, fo);
+    // A global start is lost from the start, a tracking start never; a kidnapping from the first output off by more
+    // than the bounds (the recovery is timed from there).
+    hal::TimeNs lost = !kidnap && fo.start == StartKind::global ? from : -1;
+    if (kidnap) {
+      for (const OutputRow& row : r.rows) {
+        if (row.t_ns < from || row.t_ns >= to) continue;
+        if (row.position_error_m >= pos || row.heading_error_rad >= head) {
+          lost = row.t_ns;
+          break;
+        }
+      }
+    }
+    ph.lost_at_s = lost >= 0 ? span_s(lost - t0) : -1.0;
+    const hal::TimeNs search = kidnap ? lost : from;  // a kidnapping never lost is never recovered
+    const std::size_t first = search >= 0 ? localized_at(r.rows, search, to, fo) : r.rows.size();
     ph.localized = first < r.rows.size();
     if (ph.localized) {
       const hal::TimeNs at = r.rows[first].t_ns;
-      ph.time_to_localize_s = span_s(at - from);
+      ph.localized_at_s = span_s(at - t0);
+      ph.time_to_localize_s = span_s(at - search);
       m.localized_time_s += span_s(std::min(to, s.end_ns) - at);
       hal::TimeNs prev = -1;
+      // The filter's counters before the localized part: those of the output before it.
+      const std::uint32_t drawn0 = first > 0 ? r.rows[first - 1].drawn_particles : 0u;
+      const std::uint32_t injected0 = first > 0 ? r.rows[first - 1].injected_particles : 0u;
+      std::uint32_t drawn1 = drawn0, injected1 = injected0;
+      double particles_sum = 0.0;
+      std::size_t rows_in = 0;
       for (std::size_t k = first; k < r.rows.size(); ++k) {
         const OutputRow& row = r.rows[k];
         if (row.t_ns >= to) break;
@@ -209,6 +237,19 @@ SimMetrics compute_metrics(const SimResult& r, const FilterOptions& fo) {
         m.max_heading_error_deg = std::max(m.max_heading_error_deg, eh * 180.0 / kPi);
         if (prev >= 0 && (row.position_error_m >= pos || row.heading_error_rad >= head)) outside += row.t_ns - prev;
         prev = row.t_ns;
+        drawn1 = row.drawn_particles;
+        injected1 = row.injected_particles;
+        particles_sum += row.particles;
+        ph.particles_max = std::max(ph.particles_max, row.particles);
+        ++rows_in;
+      }
+      if (r.filter == est::loop::Filter::mcl && rows_in > 0) {
+        ph.drawn_particles = drawn1 - drawn0;  // unsigned: right across a wrap of the counters
+        ph.injected_particles = injected1 - injected0;
+        ph.injected_share = ph.drawn_particles > 0 ? static_cast<double>(ph.injected_particles) /
+                                                         static_cast<double>(ph.drawn_particles)
+                                                   : 0.0;
+        ph.particles_mean = particles_sum / static_cast<double>(rows_in);
       }
     }
     m.phases.push_back(ph);

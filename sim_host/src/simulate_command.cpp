@@ -34,8 +34,8 @@ std::string fault_help() {
   for (const FaultClassInfo& f : fault_catalogue())
     s << "  " << f.key << std::string(f.key.size() < 27 ? 27 - f.key.size() : 1, ' ') << f.what << "  [" << f.expected
       << "]\n";
-  s << "Events: --kidnap-at (the robot is carried 3 route segments ahead), --burst-at/--burst-ms (every stream\n"
-       "silent: a bus outage), --slip-events (the encoders count --slip-factor more for --slip-duration).\n"
+  s << "Events: --kidnap-at (the robot is carried 3 or more route segments ahead, at least 3 m where the route\n"
+       "allows), --burst-at/--burst-ms (every stream silent: a bus outage), --slip-events (the encoders count --slip-factor more for --slip-duration).\n"
        "The landmark classes need a world with landmarks (the synthetic office's 16 posts; a ROS map has none).\n";
   return s.str();
 }
@@ -174,11 +174,20 @@ void print_summary(const SimResult& r, const ScenarioConfig& sc, const SimWorld&
             << " s, seed " << sc.seed << ": " << r.rows.size() << " estimates in " << num("%.1f", r.wall_s) << " s ("
             << num("%.1f", sc.duration_s / std::max(r.wall_s, 1e-9)) << "x real time)\n";
   for (const PhaseMetrics& p : m.phases) {
-    std::cout << "  " << p.name << " (from " << num("%.2f", p.start_s) << " s): ";
-    if (p.localized)
-      std::cout << "localized after " << num("%.2f", p.time_to_localize_s) << " s\n";
+    const bool kidnap = p.name == "kidnap recovery";
+    std::cout << "  " << p.name << " (from " << num("%.2f", p.start_s) << " s"
+              << (kidnap ? ", carried " + num("%.1f", r.stream.kidnap_distance_m) + " m" : std::string()) << "): ";
+    if (kidnap && p.lost_at_s < 0.0)
+      std::cout << "the estimate never left the bounds: NOT a loss, NOT recovered\n";
+    else if (p.localized)
+      std::cout << (kidnap ? "lost at " + num("%.2f", p.lost_at_s) + " s, " : std::string()) << "localized after "
+                << num("%.2f", p.time_to_localize_s) << " s" << (kidnap ? " from the loss" : "") << "\n";
     else
       std::cout << "NOT localized by " << num("%.2f", p.end_s) << " s\n";
+    if (p.localized && p.particles_mean >= 0.0)
+      std::cout << "    once localized: " << p.injected_particles << " of " << p.drawn_particles
+                << " particles drawn were injected (" << num("%.3f", 100.0 * p.injected_share)
+                << " %), particles mean " << num("%.0f", p.particles_mean) << ", max " << p.particles_max << "\n";
   }
   if (m.rmse_position_m >= 0.0)
     std::cout << "  once localized (" << num("%.1f", m.localized_time_s) << " s): position RMSE "
@@ -207,7 +216,11 @@ void print_summary(const SimResult& r, const ScenarioConfig& sc, const SimWorld&
                "with stale inputs:";
   for (const est::loop::InputKindInfo& k : est::loop::kInputKinds)
     if (r.loop.of(k.kind).accepted > 0 || r.loop.of(k.kind).stale > 0) std::cout << " " << k.name << " " << r.loop.of(k.kind).stale;
-  std::cout << "; worst step " << num("%.2f", static_cast<double>(r.loop.worst_step_ns) * 1e-6) << " ms (wall clock)\n";
+  std::cout << "; worst step " << num("%.2f", static_cast<double>(r.loop.worst_step_ns) * 1e-6) << " ms, "
+            << r.loop.overruns << " steps over their deadline (wall clock)\n";
+  if (r.filter == est::loop::Filter::mcl)
+    std::cout << "  mcl: " << r.mcl.resamplings << " resamplings drew " << r.mcl.drawn_particles << " particles, "
+              << r.mcl.injected_particles << " of them injected\n";
   std::cout << "  outputs in " << out << "/\n";
 }
 

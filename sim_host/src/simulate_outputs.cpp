@@ -270,10 +270,14 @@ void plot_errors(const SimResult& r, const ScenarioConfig& sc, const FilterOptio
       events << "set object " << obj++ << " rect from " << t << ", graph 0 to " << t + sc.slip_duration_s
              << ", graph 1 fc rgb '#c5e0b4' fs solid 0.6 noborder behind\n";
   }
-  for (const PhaseMetrics& p : r.metrics.phases)
+  for (const PhaseMetrics& p : r.metrics.phases) {
     if (p.localized)
-      events << "set arrow " << obj++ << " from " << p.start_s + p.time_to_localize_s << ", graph 0 to "
-             << p.start_s + p.time_to_localize_s << ", graph 1 nohead lw 1.5 lc rgb '#2ca02c'\n";
+      events << "set arrow " << obj++ << " from " << p.localized_at_s << ", graph 0 to " << p.localized_at_s
+             << ", graph 1 nohead lw 1.5 lc rgb '#2ca02c'\n";
+    if (p.lost_at_s >= 0.0 && p.start_s > 0.0)  // a kidnapping's loss (a global start is lost from 0)
+      events << "set arrow " << obj++ << " from " << p.lost_at_s << ", graph 0 to " << p.lost_at_s
+             << ", graph 1 nohead lw 1.5 dt 3 lc rgb '#7f7f7f'\n";
+  }
   gp << events.str();
   gp << "set format x ''\n";
   gp << "set ylabel 'position error (m)'\nset logscale y\nset yrange [0.002:30]\n";
@@ -283,6 +287,7 @@ void plot_errors(const SimResult& r, const ScenarioConfig& sc, const FilterOptio
      << fo.converge_pos_m << " m', \\\n"
      << "  NaN with lines lw 2 dt 2 lc rgb '#d62728' title 'kidnapping', \\\n"
      << "  NaN with lines lw 1.5 lc rgb '#2ca02c' title 'localized from', \\\n"
+     << "  NaN with lines lw 1.5 dt 3 lc rgb '#7f7f7f' title 'lost at (kidnapping)', \\\n"
      << "  NaN with boxes fs solid 0.6 fc rgb '#ffbb78' title 'bus outage', \\\n"
      << "  NaN with boxes fs solid 0.6 fc rgb '#c5e0b4' title 'wheel slip'\n";
   gp << "set ylabel 'heading error (deg)'\nset yrange [0.01:180]\n";
@@ -367,6 +372,7 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
                                        {"sigma_signature", sc.landmark_sensor.noise.sigma_signature},
                                        {"max_range_m", sc.landmark_sensor.max_range}}},
                    {"kidnap_at_s", r.stream.kidnap_ns >= 0 ? seconds(r.stream.kidnap_ns, t0) : -1.0},
+                   {"kidnap_distance_m", r.stream.kidnap_ns >= 0 ? r.stream.kidnap_distance_m : 0.0},
                    {"burst_at_s", sc.burst_at_s},
                    {"burst_ms", sc.burst_ms}};
   const ordered bound = {{"position_m", fo.converge_pos_m},
@@ -395,15 +401,30 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
                    {"kld", fo.kld},
                    {"kld_min", fo.kld_min},
                    {"beam_stride", fo.beam_stride},
+                   {"alpha_slow", fo.alpha_slow},
+                   {"alpha_fast", fo.alpha_fast},
+                   {"max_injection", fo.max_injection},
                    {"localized_bound", bound}};
   const SimMetrics& m = r.metrics;
   ordered phases = ordered::array();
-  for (const PhaseMetrics& p : m.phases)
-    phases.push_back({{"phase", p.name},
-                      {"start_s", p.start_s},
-                      {"end_s", p.end_s},
-                      {"localized", p.localized},
-                      {"time_to_localize_s", p.time_to_localize_s}});
+  for (const PhaseMetrics& p : m.phases) {
+    ordered ph = {{"phase", p.name},
+                  {"start_s", p.start_s},
+                  {"end_s", p.end_s},
+                  {"lost_at_s", p.lost_at_s >= 0.0 ? json(p.lost_at_s) : json(nullptr)},
+                  {"localized", p.localized},
+                  {"localized_at_s", p.localized ? json(p.localized_at_s) : json(nullptr)},
+                  {"time_to_localize_s", p.time_to_localize_s}};
+    if (!ekf) {
+      const bool have = p.localized && p.particles_mean >= 0.0;
+      ph["injected_share"] = have ? json(p.injected_share) : json(nullptr);
+      ph["injected_particles"] = p.injected_particles;
+      ph["drawn_particles"] = p.drawn_particles;
+      ph["particles_mean"] = have ? json(p.particles_mean) : json(nullptr);
+      ph["particles_max"] = have ? json(p.particles_max) : json(nullptr);
+    }
+    phases.push_back(ph);
+  }
   j["accuracy"] = {{"rmse_position_m", m.rmse_position_m},
                    {"rmse_heading_deg", m.rmse_heading_deg},
                    {"max_position_error_m", m.max_position_error_m},
@@ -411,7 +432,10 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
                    {"localized_time_s", m.localized_time_s},
                    {"outside_bounds_while_localized_s", m.outside_bounds_s},
                    {"rmse_position_all_outputs_m", m.rmse_position_all_m},
-                   {"note", "RMSE and maxima over the outputs from the time each phase is localized to its end"}};
+                   {"note", "RMSE and maxima over the outputs from the time each phase is localized to its end; per "
+                            "phase, time_to_localize_s counts from lost_at_s (a kidnapping: the first output off by "
+                            "more than the bounds), injected_share (injected / drawn particles at the resamplings), "
+                            "particles_mean and particles_max are over the phase's localized part"}};
   j["phases"] = phases;
   for (const PhaseMetrics& p : m.phases) {
     if (p.name == "global localization")
@@ -482,6 +506,7 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
     j["mcl"] = {{"predictions", r.mcl.predictions},
                 {"corrections", r.mcl.corrections},
                 {"resamplings", r.mcl.resamplings},
+                {"drawn_particles", r.mcl.drawn_particles},
                 {"injected_particles", r.mcl.injected_particles},
                 {"failed_injections", r.mcl.failed_injections},
                 {"degenerate_corrections", r.mcl.degenerate_corrections},

@@ -67,6 +67,7 @@ TableError g_table_error;
 
 using Mcl = est::AugmentedMcl<kNMax>;
 std::unique_ptr<Mcl> g_mcl;
+std::unique_ptr<Mcl> g_mcl_kld;  // KLD-adaptive, floor 500 (the simulator's)
 
 void tile_office() {
   static est::OccupancyGridStorage<400, 300> office;
@@ -199,6 +200,9 @@ void setup() {
   est::MclConfig cfg;
   cfg.recovery = false;
   g_mcl = std::make_unique<Mcl>(cfg, 7u);
+  cfg.kld = true;
+  cfg.kld_config.n_min = 500;
+  g_mcl_kld = std::make_unique<Mcl>(cfg, 8u);
 }
 
 // A tracking cloud around the scan's pose: 0.3 m and 0.1 rad.
@@ -319,6 +323,27 @@ void BM_resample(benchmark::State& state) {
   set_items(state, n);
 }
 
+// KLD resampling (table 8.4: i.i.d. draws until n >= n_chi(k), a binary search each, then the low-variance comb)
+// of a corrected tracking cloud of N particles; the weighted set is rebuilt outside the timing each iteration.
+void BM_resample_kld(benchmark::State& state) {
+  const auto n = static_cast<std::uint32_t>(state.range(0));
+  Mcl& mcl = *g_mcl_kld;
+  const est::FreeSpaceSampler free_space(g_grid.grid(), g_edt.view(), 0.2f);
+  const est::ScanBeams z = scan(60);
+  std::uint64_t drawn = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    mcl.initialize_gaussian(g_truth, 0.3f, 0.1f, n);
+    mcl.correct([&](const est::Pose2& x) { return est::likelihood_field_range_finder_model(z, x, {}, g_field); });
+    const std::uint32_t before = mcl.counters().drawn_particles;
+    state.ResumeTiming();
+    mcl.resample(free_space, true);
+    drawn += mcl.counters().drawn_particles - before;
+  }
+  state.counters["drawn"] = static_cast<double>(drawn) / static_cast<double>(state.iterations());
+  set_items(state, n);
+}
+
 void particle_args(benchmark::internal::Benchmark* b) {
   for (std::int64_t n : {256, 1024, 4096, 16384}) b->Arg(n);
 }
@@ -335,6 +360,7 @@ BENCHMARK(BM_weight_likelihood_field_scalar)->Apply(particle_beam_args)->Unit(be
 BENCHMARK(BM_weight_beam)->Apply(particle_beam_args)->Unit(benchmark::kMicrosecond)->MinTime(0.2);
 BENCHMARK(BM_weight_beam_table)->Apply(particle_beam_args)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_resample)->Apply(particle_args)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_resample_kld)->Apply(particle_args)->Unit(benchmark::kMicrosecond);
 
 // Keeps every run's CPU time per item (ns) for the summary; with --benchmark_repetitions the median of the
 // repetitions (also under --benchmark_report_aggregates_only).
@@ -428,6 +454,9 @@ void summary(const Collector& c) {
       get(c, "BM_predict_diff_drive_batch/16384"), verdict(dd, 40.0), get(c, "BM_predict_diff_drive/16384"));
   std::printf("resampling              <= 40 ns/particle       : %6.1f (%5.1f)  %s\n", rs, get(c, "BM_resample/16384"),
               verdict(rs, 40.0));
+  std::printf("KLD resampling (no target; a tracking cloud, 500 drawn): %.1f us at N = 256, %.1f us at N = 16384\n"
+              "  (table 8.4's count from i.i.d. draws, a binary search each, then the comb over the weighted set)\n",
+              get(c, "BM_resample_kld/256") * 256e-3, get(c, "BM_resample_kld/16384") * 16384e-3);
   const TableError& e = g_table_error;
   std::printf(
       "  beam model's table: %.0f MiB, built in %.0f ms; |z*_table - z*_exact| over %d rays to %.0f m from free cells:\n"

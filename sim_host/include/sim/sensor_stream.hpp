@@ -81,6 +81,9 @@ struct InjectedFault {
   int also_amount = 0;
 };
 
+// The kidnapping carries the robot at least this far when the route allows (six times the localized bound).
+inline constexpr double kKidnapMinDistanceM = 3.0;
+
 struct SensorStream {
   std::vector<StreamEvent> events;  // in arrival order (ties: generation order)
   std::vector<ScanRecord> scans;
@@ -89,6 +92,7 @@ struct SensorStream {
   std::vector<InjectedFault> faults;
   hal::InputLimits limits;          // what the HAL gate of this robot is configured with
   hal::TimeNs kidnap_ns = -1;       // -1: none
+  double kidnap_distance_m = 0.0;   // how far the kidnapping carried the robot (>= kKidnapMinDistanceM when it can)
   hal::TimeNs end_ns = 0;
   est::Pose2 mount;                 // rangefinder in the robot frame (on the handlebar: at steering 0)
   double metres_per_tick = 0.0;     // encoder resolution (the bicycle's traction wheel / each wheel of the others)

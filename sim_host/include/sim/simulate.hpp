@@ -40,7 +40,10 @@ struct FilterOptions {
   std::uint32_t kld_min = 500;
   std::int32_t beam_stride = 6;     // every 6th beam of 360: 60 per scan
   float clearance_m = 0.2f;         // free-space poses this far from walls (global start, injection)
-  float alpha_slow = 0.02f;         // augmented MCL's averages of the scan likelihood (Thrun table 8.3), per scan
+  // Augmented MCL's averages of the per-beam fit (Thrun table 8.3, est/filter/augmented_mcl.hpp), per scan. The slow
+  // one forgets the perfect-fit start in ~20 s: at 0.02 (5 s) it learned a look-alike's fit before the search found
+  // the robot (one of 40 seeded demo runs took 11.9 s to localize).
+  float alpha_slow = 0.005f;
   float alpha_fast = 0.3f;
   float max_injection = 0.5f;       // at most this share of a resampled set is injected
   // EKF: the start's standard deviations (around the true start pose), the heading noise added to every prediction
@@ -65,6 +68,8 @@ struct OutputRow {
   float sigma_x_m = 0.0f, sigma_y_m = 0.0f, sigma_theta_rad = 0.0f;
   float cov_xy_m2 = 0.0f;      // the position covariance's off-diagonal (the 2-sigma ellipse of the plots)
   std::uint32_t particles = 0; // 0 for the EKF
+  // MCL: the filter's counters after this output (cumulative): samples drawn at resamplings, of which injected.
+  std::uint32_t drawn_particles = 0, injected_particles = 0;
   std::uint32_t status = 0;  // hal::status bits, without kDeadlineOverrun (wall-clock dependent)
   std::uint32_t rejected_inputs = 0;
 };
@@ -77,12 +82,24 @@ struct ParticleSnapshot {
   est::Pose2 truth, estimate;
 };
 
-// A phase of the run: from the start or the kidnapping to the next event or the end.
+// A phase of the run: from the start or the kidnapping to the next event or the end. Times in s from the run start
+// unless named "time_to".
 struct PhaseMetrics {
   std::string name;  // "global localization", "tracking", "kidnap recovery"
   double start_s = 0.0, end_s = 0.0;
+  // When the estimate was first outside the bounds in the phase: the phase start for a global start; for a
+  // kidnapping the first output after it that is off by more than the bounds; -1 when the estimate never left them
+  // (a kidnapping that did not really lose the filter: the phase then counts as not recovered).
+  double lost_at_s = -1.0;
   bool localized = false;
-  double time_to_localize_s = -1.0;  // from the phase start; -1 when never
+  double localized_at_s = -1.0;      // from here the estimate stays within the bounds for the hold time
+  double time_to_localize_s = -1.0;  // from lost_at_s (tracking: from the start); -1 when never
+  // Over the phase's localized part (MCL; -1 when not localized or for the EKF): injected / drawn particles at the
+  // resamplings, and the particle count of the outputs.
+  double injected_share = -1.0;
+  std::uint64_t injected_particles = 0, drawn_particles = 0;
+  double particles_mean = -1.0;
+  std::uint32_t particles_max = 0;
 };
 
 struct SimMetrics {

@@ -1,10 +1,14 @@
 #pragma once
-// KLD-sampling (Fox 2003; Thrun table 8.4): the number of particles that keeps the Kullback-Leibler distance between
-// the particle approximation and the true posterior below epsilon with probability 1 - delta, given the number k of
-// histogram bins the particles occupy. Deterministic: bins are counted in a fixed-size table, no allocation.
+// KLD-sampling (Fox 2003; Thrun table 8.4): samples are drawn one at a time and the histogram bins they fall in are
+// counted; drawing stops once the number drawn n reaches n_chi(k), the count that keeps the Kullback-Leibler distance
+// between the sample-based approximation and the true posterior below epsilon with probability 1 - delta for the k
+// bins occupied so far (line 15), and n_min (line 17). KldStoppingRule is that rule: add() each sample in the order
+// it is drawn (lines 11-16), done(n) is line 17's test. The drawing is the filter's (AugmentedMcl::resample): it
+// draws i.i.d. from the weighted set, or from the recovery source with augmented MCL's injection probability, and
+// counts the bins of every sample drawn, random ones included. Deterministic: bins are counted in a fixed-size
+// table, no allocation; every loop is bounded by the table or by n_max.
 #include <cstdint>
 
-#include "est/filter/particle_set.hpp"
 #include "est/math/fmath.hpp"
 
 namespace est {
@@ -43,8 +47,9 @@ class BinCounter {
     saturated_ = false;
   }
 
-  void insert(std::int32_t ix, std::int32_t iy, std::int32_t it) {
-    if (saturated_) return;
+  // True when the bin was empty (table 8.4, line 11), false when occupied or the table is saturated.
+  bool insert(std::int32_t ix, std::int32_t iy, std::int32_t it) {
+    if (saturated_) return false;
     const std::uint32_t key = hash(ix, iy, it);
     const std::uint64_t full = pack(ix, iy, it);
     std::uint32_t slot = key & (Capacity - 1u);
@@ -53,12 +58,13 @@ class BinCounter {
         stamp_[slot] = generation_;
         keys_[slot] = full;
         if (++count_ > Capacity / 2u) saturated_ = true;
-        return;
+        return true;
       }
-      if (keys_[slot] == full) return;
+      if (keys_[slot] == full) return false;
       slot = (slot + 1u) & (Capacity - 1u);
     }
     saturated_ = true;
+    return false;
   }
 
   std::uint32_t count() const { return count_; }
@@ -92,20 +98,37 @@ inline std::int32_t kld_bin(float v, float size) {
   return static_cast<std::int32_t>(f);
 }
 
-// Number of particles KLD-sampling asks for given the particles' occupied bins, clamped to [n_min, n_max].
+// Table 8.4's stopping rule over the samples drawn so far. start() is lines 2-4 (M = 0, k = 0, bins empty); add() is
+// lines 11-16 for one sample (a new bin raises k and, for k > 1, the required count n_chi(k)); done(n) is line 17
+// with n_max as the capacity's bound. A saturated bin table (more than Capacity/2 bins) asks for n_max.
 template <std::uint32_t Capacity>
-std::uint32_t kld_particle_count(ConstParticleSetView set, const KldConfig& cfg, std::uint32_t n_max,
-                                 BinCounter<Capacity>& bins) {
-  bins.clear();
-  for (std::uint32_t i = 0; i < set.count; ++i)
-    bins.insert(kld_bin(set.x[i], cfg.bin_xy), kld_bin(set.y[i], cfg.bin_xy), kld_bin(set.theta[i], cfg.bin_theta));
-  if (bins.saturated()) return n_max;
-  const float n = kld_sample_count(bins.count(), cfg.epsilon, cfg.z_one_minus_delta);
-  const float lo = static_cast<float>(cfg.n_min);
-  const float hi = static_cast<float>(n_max);
-  const float c = n < lo ? lo : (n > hi ? hi : n);
-  const std::uint32_t count = static_cast<std::uint32_t>(c + 0.999f);
-  return count > n_max ? n_max : count;
-}
+class KldStoppingRule {
+ public:
+  void start(const KldConfig& cfg, std::uint32_t n_max) {
+    cfg_ = cfg;
+    n_max_ = n_max;
+    required_ = 1.0f;
+    bins_.clear();
+  }
+  void add(float x, float y, float theta) {
+    if (bins_.insert(kld_bin(x, cfg_.bin_xy), kld_bin(y, cfg_.bin_xy), kld_bin(theta, cfg_.bin_theta)) &&
+        bins_.count() > 1u)
+      required_ = kld_sample_count(bins_.count(), cfg_.epsilon, cfg_.z_one_minus_delta);
+  }
+  bool done(std::uint32_t n) const {
+    if (n >= n_max_) return true;
+    if (bins_.saturated()) return false;
+    return n >= cfg_.n_min && static_cast<float>(n) >= required_;
+  }
+  std::uint32_t bins() const { return bins_.count(); }
+  bool saturated() const { return bins_.saturated(); }
+  float required() const { return required_; }
+
+ private:
+  KldConfig cfg_{};
+  std::uint32_t n_max_ = 0;
+  float required_ = 1.0f;
+  BinCounter<Capacity> bins_;
+};
 
 }  // namespace est

@@ -21,6 +21,17 @@
 
 namespace est::loop {
 
+// The scale of the beam model's product for augmented MCL's recovery statistic (est/filter/augmented_mcl.hpp): every
+// beam is a factor (table 6.1 weighs max readings too), the origin the mean of the beams' log_peak.
+inline MeasurementScale beam_scale(const ScanBeams& beams, const BeamRangeFinderModel& model) {
+  if (beams.count <= 0) return {0, 0.0f};
+  std::int32_t n_max = 0;
+  for (std::int32_t k = 0; k < beams.count; ++k) n_max += beams.is_max[k] != 0u ? 1 : 0;
+  const float sum = static_cast<float>(n_max) * model.log_peak(true) +
+                    static_cast<float>(beams.count - n_max) * model.log_peak(false);
+  return {beams.count, sum / static_cast<float>(beams.count)};
+}
+
 template <typename Caster>
 class BeamScan {
  public:
@@ -33,7 +44,8 @@ class BeamScan {
     const Pose2 mount = mount_;
     const Caster& caster = *caster_;
     const BeamRangeFinderModel& model = *model_;
-    return mcl.correct([&](const Pose2& x) { return beam_range_finder_model(beams, x, mount, caster, model); });
+    return mcl.correct([&](const Pose2& x) { return beam_range_finder_model(beams, x, mount, caster, model); },
+                       beam_scale(beams, model));
   }
 
   const Pose2& mount() const { return mount_; }
@@ -62,7 +74,9 @@ class BeamTableScan {
     const Pose2 mount = mount_;
     const HeadingRangeTable& table = *table_;
     const BeamRangeFinderModel& model = *model_;
-    return mcl.correct([&](const Pose2& x) { return beam_range_finder_model(beams, b, r, x, mount, table, model); });
+    return mcl.correct(
+        [&](const Pose2& x) { return beam_range_finder_model(beams, b, r, x, mount, table, model); },
+        beam_scale(beams, model));
   }
 
   const Pose2& mount() const { return mount_; }

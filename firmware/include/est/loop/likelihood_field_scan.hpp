@@ -21,6 +21,14 @@ struct ScanContext {
   bool steering_known = false;
 };
 
+// The scale of the likelihood field's product for augmented MCL's recovery statistic (est/filter/augmented_mcl.hpp):
+// its factors are the beams that are not max readings (table 6.3 skips those), each at most the field's largest term.
+inline MeasurementScale likelihood_field_scale(const ScanBeams& beams, const LikelihoodField& field) {
+  MeasurementScale scale{0, field.log_term_max()};
+  for (std::int32_t k = 0; k < beams.count; ++k) scale.factors += beams.is_max[k] != 0u ? 0 : 1;
+  return scale;
+}
+
 class LikelihoodFieldScan {
  public:
   // `grid`, if not null, must be tabulated from `field` over the same map; both outlive this.
@@ -32,13 +40,17 @@ class LikelihoodFieldScan {
   CorrectionReport correct(AugmentedMcl<N>& mcl, const ScanBeams& beams, const ScanContext&) const {
     const Pose2 mount = mount_;
     const LikelihoodField& field = *field_;
+    const MeasurementScale scale = likelihood_field_scale(beams, field);
     if (grid_ != nullptr && grid_->valid()) {
       const LikelihoodFieldGrid& grid = *grid_;
-      return mcl.correct_batch([&](ConstParticleSetView v, float* out) {
-        likelihood_field_range_finder_model_batch(beams, v.x, v.y, v.theta, v.count, mount, grid, out);
-      });
+      return mcl.correct_batch(
+          [&](ConstParticleSetView v, float* out) {
+            likelihood_field_range_finder_model_batch(beams, v.x, v.y, v.theta, v.count, mount, grid, out);
+          },
+          scale);
     }
-    return mcl.correct([&](const Pose2& x) { return likelihood_field_range_finder_model(beams, x, mount, field); });
+    return mcl.correct([&](const Pose2& x) { return likelihood_field_range_finder_model(beams, x, mount, field); },
+                       scale);
   }
 
   const Pose2& mount() const { return mount_; }

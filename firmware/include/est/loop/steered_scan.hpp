@@ -119,7 +119,7 @@ class SteeredScan {
           evidence[m] = motion_density::log_add(evidence[m], v.log_w[i] + buffer_[i]);
         }
       }
-    });
+    }, likelihood_field_scale(beams, *field_));  // a mixture of products: at most its largest component's bound
     if (!exact_) update_estimate(probs, evidence);
     return r;
   }

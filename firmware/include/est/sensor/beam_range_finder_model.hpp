@@ -80,6 +80,15 @@ class BeamRangeFinderModel {
   bool ready() const { return ready_; }
   const BeamModelParams& params() const { return p_; }
 
+  // The log density of a reading where a correct pose puts it, the origin of augmented MCL's recovery statistic
+  // (MeasurementScale::log_peak): a max reading with no obstacle on the ray (z* = z_max), or a reading at its
+  // expected range away from the ends of [0, z_max] (p_hit's mode and p_rand). Not a strict bound: p_short is left
+  // out (it exceeds a fraction of p_hit only within ~1/lambda of the sensor), so a beam may score above it; the
+  // statistic is clamped there.
+  float log_peak(bool max_reading) const {
+    return fmath::log(max_reading ? max_density_ + hit_coeff_ / mass_at_max_ : hit_coeff_ + rand_density_);
+  }
+
   // Mixture density (per metre) of reading z given the expected range z_exp, both clamped to [0, range_max];
   // z >= range_max is a max reading. Non-finite z or z_exp give 0 (the caller floors the log).
   float density(float z, float z_exp) const {

@@ -104,6 +104,9 @@ class LikelihoodField {
     const float d = edt_.metres(cx, cy);
     return d < p_.max_distance ? d : p_.max_distance;
   }
+  // The largest per-beam term (an end point on an obstacle; the table falls with the distance): the upper bound of
+  // one factor that augmented MCL's recovery statistic asks for (MeasurementScale::log_peak).
+  float log_term_max() const { return table_[0]; }
   std::int32_t table_entries() const { return last_ + 1; }
   std::int32_t bucket_shift() const { return shift_; }
 
