@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "est/filter/augmented_mcl.hpp"
+#include "est/loop/likelihood_field_scan.hpp"
 #include "est/filter/free_space_sampler.hpp"
 #include "est/filter/two_landmark_sampler.hpp"
 #include "est/map/ray_casting.hpp"
@@ -261,8 +262,7 @@ Trace run_bicycle(const Scenario& s) {
     const est::ScanBeams z = scan.beams();
     if (s.model == RangeModel::likelihood_field) {
       // The recovery statistic's scale, as MclEstimator states it: the beams in the product and the largest term.
-      est::MeasurementScale scale{0, m.field.log_term_max()};
-      for (std::int32_t k = 0; k < z.count; ++k) scale.factors += z.is_max[k] ? 0 : 1;
+      est::MeasurementScale scale = est::loop::likelihood_field_scale(z, m.field);
       if (!s.per_beam_recovery) scale.factors = -1;  // the book's statistic: log w_avg of the whole scan
       mcl->correct_batch(
           [&](est::ConstParticleSetView p, float* out) {

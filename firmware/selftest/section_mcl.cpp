@@ -1,37 +1,26 @@
 #include "est/filter/augmented_mcl.hpp"
 #include "est/filter/free_space_sampler.hpp"
-#include "est/map/distance_transform.hpp"
-#include "est/map/occupancy_grid.hpp"
 #include "est/map/ray_casting.hpp"
 #include "est/motion/bicycle_model.hpp"
 #include "est/motion/motion_batch.hpp"
 #include "est/sensor/beam_range_finder_model.hpp"
-#include "est/sensor/likelihood_field_grid.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
 #include "est/sensor/range_scan.hpp"
 #include "est/util/digest.hpp"
+#include "mcl_room.hpp"
 #include "selftest.hpp"
 
 namespace est::selftest {
 namespace {
 
-// 6.4 m x 4.8 m at 0.1 m, an L-shaped room with a desk and a post: asymmetric, so a uniform start converges.
-OccupancyGridStorage<64, 48> g_grid;
-DistanceTransformStorage<64, 48> g_edt;
-LikelihoodFieldGridStorage<64, 48> g_field_grid;
-LikelihoodField g_field;
 PreparedScan<60> g_scan;
 AugmentedMcl<256> g_mcl(MclConfig{}, 0u);
 
-void build_room() {
-  g_grid.configure(64, 48, 0.1f, 0.0f, 0.0f, kFreeCell);
-  g_grid.fill_rect(0, 0, 63, 0, kOccupiedCell);
-  g_grid.fill_rect(0, 47, 63, 47, kOccupiedCell);
-  g_grid.fill_rect(0, 0, 0, 47, kOccupiedCell);
-  g_grid.fill_rect(63, 0, 63, 47, kOccupiedCell);
-  g_grid.fill_rect(44, 30, 63, 47, kOccupiedCell);  // the L's missing corner
-  g_grid.fill_rect(10, 8, 22, 12, kOccupiedCell);   // desk
-  g_grid.fill_rect(35, 18, 37, 20, kOccupiedCell);  // post
+// 6.4 m x 4.8 m at 0.1 m, an L-shaped room with a desk and a post: asymmetric, so a uniform start converges.
+void furnish(MclRoomGrid& g) {
+  g.fill_rect(44, 30, 63, 47, kOccupiedCell);  // the L's missing corner
+  g.fill_rect(10, 8, 22, 12, kOccupiedCell);   // desk
+  g.fill_rect(35, 18, 37, 20, kOccupiedCell);  // post
 }
 
 }  // namespace
@@ -42,25 +31,14 @@ void build_room() {
 // estimate after every step.
 std::uint64_t section_mcl() {
   Digest d;
-  build_room();
-  g_edt.build(g_grid.grid());
-  const OccupancyGrid grid = g_grid.grid();
-  LikelihoodFieldParams lp;
-  lp.z_hit = 0.85f;
-  lp.z_rand = 0.10f;
-  lp.range_max = 6.0f;
-  g_field.configure(lp, grid, g_edt.view());
-  g_field_grid.build(g_field, grid);
+  const MclRoom room = mcl_room(furnish);
   BeamRangeFinderModel beam;
   BeamModelParams bp;
   bp.range_max = 6.0f;
   beam.configure(bp);
-  const DistanceTransformRayCaster caster(grid, g_edt.view());
-  const FreeSpaceSampler free_space(grid, g_edt.view(), 0.2f);
-  const auto is_free = [&grid](float x, float y) {
-    std::int32_t cx = 0, cy = 0;
-    return grid.world_to_cell(x, y, cx, cy) && grid.classify(cx, cy) == CellClass::free;
-  };
+  const DistanceTransformRayCaster& caster = room.caster;
+  const FreeSpaceSampler& free_space = room.free_space;
+  const auto is_free = [&room](float x, float y) { return room.is_free(x, y); };
 
   BicycleParams noise;
   noise.frame_length = 0.5f;
@@ -91,7 +69,7 @@ std::uint64_t section_mcl() {
     const ScanBeams z = g_scan.beams();
     CorrectionReport r{};
     if (t % 2 == 0) {
-      const LikelihoodFieldGrid field = g_field_grid.view();
+      const LikelihoodFieldGrid field = room.field_grid;
       r = g_mcl.correct_batch([&](ConstParticleSetView p, float* out) {
         likelihood_field_range_finder_model_batch(z, p.x, p.y, p.theta, p.count, mount, field, out);
       });

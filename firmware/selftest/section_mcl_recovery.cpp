@@ -1,38 +1,28 @@
 #include "est/filter/augmented_mcl.hpp"
 #include "est/filter/free_space_sampler.hpp"
-#include "est/map/distance_transform.hpp"
-#include "est/map/occupancy_grid.hpp"
 #include "est/map/ray_casting.hpp"
 #include "est/motion/bicycle_model.hpp"
+#include "est/loop/likelihood_field_scan.hpp"
 #include "est/motion/motion_batch.hpp"
-#include "est/sensor/likelihood_field_grid.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
 #include "est/sensor/range_scan.hpp"
 #include "est/util/digest.hpp"
+#include "mcl_room.hpp"
 #include "selftest.hpp"
 
 namespace est::selftest {
 namespace {
 
-// 6.4 m x 4.8 m at 0.1 m: walls, a partition with a door, a desk and a post, so that a kidnapping across the room
-// is visible in the scan.
-OccupancyGridStorage<64, 48> g_grid;
-DistanceTransformStorage<64, 48> g_edt;
-LikelihoodFieldGridStorage<64, 48> g_field_grid;
-LikelihoodField g_field;
 PreparedScan<60> g_scan;
 AugmentedMcl<2048> g_mcl(MclConfig{}, 0u);
 
-void build_room() {
-  g_grid.configure(64, 48, 0.1f, 0.0f, 0.0f, kFreeCell);
-  g_grid.fill_rect(0, 0, 63, 0, kOccupiedCell);
-  g_grid.fill_rect(0, 47, 63, 47, kOccupiedCell);
-  g_grid.fill_rect(0, 0, 0, 47, kOccupiedCell);
-  g_grid.fill_rect(63, 0, 63, 47, kOccupiedCell);
-  g_grid.fill_rect(32, 0, 33, 18, kOccupiedCell);   // partition, a door between y = 1.9 m and 2.9 m
-  g_grid.fill_rect(32, 29, 33, 47, kOccupiedCell);
-  g_grid.fill_rect(8, 30, 18, 34, kOccupiedCell);   // desk
-  g_grid.fill_rect(48, 10, 50, 12, kOccupiedCell);  // post
+// 6.4 m x 4.8 m at 0.1 m: walls, a partition with a door, a desk and a post, so that a kidnapping across the room
+// is visible in the scan.
+void furnish(MclRoomGrid& g) {
+  g.fill_rect(32, 0, 33, 18, kOccupiedCell);   // partition, a door between y = 1.9 m and 2.9 m
+  g.fill_rect(32, 29, 33, 47, kOccupiedCell);
+  g.fill_rect(8, 30, 18, 34, kOccupiedCell);   // desk
+  g.fill_rect(48, 10, 50, 12, kOccupiedCell);  // post
 }
 
 }  // namespace
@@ -45,21 +35,10 @@ void build_room() {
 // estimate and the count after every step, the counters and the final set.
 std::uint64_t section_mcl_recovery() {
   Digest d;
-  build_room();
-  g_edt.build(g_grid.grid());
-  const OccupancyGrid grid = g_grid.grid();
-  LikelihoodFieldParams lp;
-  lp.z_hit = 0.85f;
-  lp.z_rand = 0.10f;
-  lp.range_max = 6.0f;
-  g_field.configure(lp, grid, g_edt.view());
-  g_field_grid.build(g_field, grid);
-  const DistanceTransformRayCaster caster(grid, g_edt.view());
-  const FreeSpaceSampler free_space(grid, g_edt.view(), 0.2f);
-  const auto is_free = [&grid](float x, float y) {
-    std::int32_t cx = 0, cy = 0;
-    return grid.world_to_cell(x, y, cx, cy) && grid.classify(cx, cy) == CellClass::free;
-  };
+  const MclRoom room = mcl_room(furnish);
+  const DistanceTransformRayCaster& caster = room.caster;
+  const FreeSpaceSampler& free_space = room.free_space;
+  const auto is_free = [&room](float x, float y) { return room.is_free(x, y); };
 
   BicycleParams noise;
   noise.frame_length = 0.5f;
@@ -91,9 +70,8 @@ std::uint64_t section_mcl_recovery() {
     }
     g_scan.prepare(layout, ranges);
     const ScanBeams z = g_scan.beams();
-    MeasurementScale scale{0, g_field.log_term_max()};
-    for (std::int32_t k = 0; k < z.count; ++k) scale.factors += z.is_max[k] ? 0 : 1;
-    const LikelihoodFieldGrid field = g_field_grid.view();
+    const MeasurementScale scale = loop::likelihood_field_scale(z, room.field);
+    const LikelihoodFieldGrid field = room.field_grid;
     const CorrectionReport r = g_mcl.correct_batch(
         [&](ConstParticleSetView p, float* out) {
           likelihood_field_range_finder_model_batch(z, p.x, p.y, p.theta, p.count, mount, field, out);
