@@ -1,6 +1,7 @@
 #include "mcl_room.hpp"
 
 #include "est/map/distance_transform.hpp"
+#include "est/math/fmath.hpp"
 
 namespace est::selftest {
 namespace {
@@ -29,6 +30,35 @@ MclRoom mcl_room(void (*furnish)(MclRoomGrid&)) {
   g_field_grid.build(g_field, grid);
   return MclRoom{grid, g_field, g_field_grid.view(), DistanceTransformRayCaster(grid, g_edt.view()),
                  FreeSpaceSampler(grid, g_edt.view(), 0.2f)};
+}
+
+ScanLayout mcl_room_scan_layout() { return ScanLayout{-kPi, kTwoPi / 60.0f, kMclRoomBeams, 0.05f, 6.0f}; }
+
+void mcl_room_scan(const MclRoom& room, const Pose2& truth, Rng& world, float (&ranges)[kMclRoomBeams]) {
+  const ScanLayout layout = mcl_room_scan_layout();
+  for (std::int32_t k = 0; k < kMclRoomBeams; ++k) {
+    float s = 0.0f, c = 0.0f;
+    fmath::sincos(truth.theta + layout.angle_min + static_cast<float>(k) * layout.angle_increment, s, c);
+    ranges[k] = room.caster.cast(truth.x, truth.y, c, s, 6.0f) + world.uniform(-0.02f, 0.02f);
+  }
+}
+
+BicycleParams mcl_room_bicycle() {
+  BicycleParams b;
+  b.frame_length = 0.5f;
+  b.steer_sigma = 0.03f;
+  b.speed_var_per_speed = 0.005f;
+  b.final_rot_sigma = 0.01f;
+  return b;
+}
+
+void add_particles(Digest& d, ConstParticleSetView p) {
+  for (std::uint32_t i = 0; i < p.count; ++i) {
+    d.add(p.x[i]);
+    d.add(p.y[i]);
+    d.add(p.theta[i]);
+    d.add(p.log_w[i]);
+  }
 }
 
 }  // namespace est::selftest

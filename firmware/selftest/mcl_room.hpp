@@ -6,10 +6,16 @@
 #include <cstdint>
 
 #include "est/filter/free_space_sampler.hpp"
+#include "est/filter/particle_set.hpp"
+#include "est/geometry/pose2.hpp"
 #include "est/map/occupancy_grid.hpp"
 #include "est/map/ray_casting.hpp"
 #include "est/sensor/likelihood_field_grid.hpp"
+#include "est/motion/bicycle_model.hpp"
+#include "est/random/xoshiro128.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
+#include "est/sensor/range_scan.hpp"
+#include "est/util/digest.hpp"
 
 namespace est::selftest {
 
@@ -29,5 +35,16 @@ struct MclRoom {
 
 // The walls, then `furnish` draws the section's obstacles.
 MclRoom mcl_room(void (*furnish)(MclRoomGrid&));
+
+// 60 beams over the full circle, 0.05-6 m, and the ranges seen from `truth` with U(-0.02, 0.02) m noise.
+inline constexpr std::int32_t kMclRoomBeams = 60;
+ScanLayout mcl_room_scan_layout();
+void mcl_room_scan(const MclRoom& room, const Pose2& truth, Rng& world, float (&ranges)[kMclRoomBeams]);
+
+// The bicycle the sections drive and predict with (frame 0.5 m, its noise).
+BicycleParams mcl_room_bicycle();
+
+// Every particle of the set: pose and log weight.
+void add_particles(Digest& d, ConstParticleSetView p);
 
 }  // namespace est::selftest

@@ -40,13 +40,9 @@ std::uint64_t section_mcl() {
   const FreeSpaceSampler& free_space = room.free_space;
   const auto is_free = [&room](float x, float y) { return room.is_free(x, y); };
 
-  BicycleParams noise;
-  noise.frame_length = 0.5f;
-  noise.steer_sigma = 0.03f;
-  noise.speed_var_per_speed = 0.005f;
-  noise.final_rot_sigma = 0.01f;
+  const BicycleParams noise = mcl_room_bicycle();
   const BicycleControl u{0.5f, 0.15f};
-  const ScanLayout layout{-kPi, kTwoPi / 60.0f, 60, 0.05f, 6.0f};
+  const ScanLayout layout = mcl_room_scan_layout();
   const Pose2 mount{};
 
   g_mcl = AugmentedMcl<256>(MclConfig{}, 20261124u);
@@ -59,12 +55,8 @@ std::uint64_t section_mcl() {
       g_mcl.predict_in_map_batch<BicycleMotionModel>(u, noise, is_free);
     else
       g_mcl.predict_in_map<BicycleMotionModel>(u, noise, is_free);
-    float ranges[60];
-    for (int k = 0; k < 60; ++k) {
-      float s = 0.0f, c = 0.0f;
-      fmath::sincos(truth.theta + layout.angle_min + static_cast<float>(k) * layout.angle_increment, s, c);
-      ranges[k] = caster.cast(truth.x, truth.y, c, s, 6.0f) + world.uniform(-0.02f, 0.02f);
-    }
+    float ranges[kMclRoomBeams];
+    mcl_room_scan(room, truth, world, ranges);
     g_scan.prepare(layout, ranges);
     const ScanBeams z = g_scan.beams();
     CorrectionReport r{};
@@ -85,13 +77,7 @@ std::uint64_t section_mcl() {
     d.add(e.mean.theta);
     d.add_matrix(e.covariance);
   }
-  const ConstParticleSetView p = g_mcl.particles();
-  for (std::uint32_t i = 0; i < p.count; ++i) {
-    d.add(p.x[i]);
-    d.add(p.y[i]);
-    d.add(p.theta[i]);
-    d.add(p.log_w[i]);
-  }
+  add_particles(d, g_mcl.particles());
   d.add_u32(g_mcl.counters().injected_particles);
   d.add_u32(g_mcl.counters().map_penalized);
   d.add_u32(g_mcl.counters().resamplings);

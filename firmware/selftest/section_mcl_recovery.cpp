@@ -36,18 +36,14 @@ void furnish(MclRoomGrid& g) {
 std::uint64_t section_mcl_recovery() {
   Digest d;
   const MclRoom room = mcl_room(furnish);
-  const DistanceTransformRayCaster& caster = room.caster;
+  // The loop's range model: the batched likelihood field on the per-cell grid, with its MeasurementScale.
+  const loop::LikelihoodFieldScan range_model(room.field, Pose2{}, &room.field_grid);
   const FreeSpaceSampler& free_space = room.free_space;
   const auto is_free = [&room](float x, float y) { return room.is_free(x, y); };
 
-  BicycleParams noise;
-  noise.frame_length = 0.5f;
-  noise.steer_sigma = 0.03f;
-  noise.speed_var_per_speed = 0.005f;
-  noise.final_rot_sigma = 0.01f;
+  const BicycleParams noise = mcl_room_bicycle();
   const BicycleControl u{0.4f, 0.1f};
-  const ScanLayout layout{-kPi, kTwoPi / 60.0f, 60, 0.05f, 6.0f};
-  const Pose2 mount{};
+  const ScanLayout layout = mcl_room_scan_layout();
 
   MclConfig cfg;
   cfg.alpha_slow = 0.02f;
@@ -62,21 +58,11 @@ std::uint64_t section_mcl_recovery() {
     if (t == 10) truth = {4.6f, 3.4f, -2.0f};  // kidnapped: through the partition, 3.8 m away
     truth = BicycleMotionModel::sample(truth, u, noise, world);
     g_mcl.predict_in_map_batch<BicycleMotionModel>(u, noise, is_free);
-    float ranges[60];
-    for (int k = 0; k < 60; ++k) {
-      float s = 0.0f, c = 0.0f;
-      fmath::sincos(truth.theta + layout.angle_min + static_cast<float>(k) * layout.angle_increment, s, c);
-      ranges[k] = caster.cast(truth.x, truth.y, c, s, 6.0f) + world.uniform(-0.02f, 0.02f);
-    }
+    float ranges[kMclRoomBeams];
+    mcl_room_scan(room, truth, world, ranges);
     g_scan.prepare(layout, ranges);
     const ScanBeams z = g_scan.beams();
-    const MeasurementScale scale = loop::likelihood_field_scale(z, room.field);
-    const LikelihoodFieldGrid field = room.field_grid;
-    const CorrectionReport r = g_mcl.correct_batch(
-        [&](ConstParticleSetView p, float* out) {
-          likelihood_field_range_finder_model_batch(z, p.x, p.y, p.theta, p.count, mount, field, out);
-        },
-        scale);
+    const CorrectionReport r = range_model.correct(g_mcl, z, loop::ScanContext{});
     d.add(r.fit);
     d.add(r.ess);
     d.add(g_mcl.log_w_slow());
@@ -90,13 +76,7 @@ std::uint64_t section_mcl_recovery() {
     g_mcl.resample(free_space);
     d.add_u32(g_mcl.particles().count);
   }
-  const ConstParticleSetView p = g_mcl.particles();
-  for (std::uint32_t i = 0; i < p.count; ++i) {
-    d.add(p.x[i]);
-    d.add(p.y[i]);
-    d.add(p.theta[i]);
-    d.add(p.log_w[i]);
-  }
+  add_particles(d, g_mcl.particles());
   d.add_u32(g_mcl.counters().drawn_particles);
   d.add_u32(g_mcl.counters().injected_particles);
   d.add_u32(g_mcl.counters().resamplings);
