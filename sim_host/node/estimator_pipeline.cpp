@@ -86,11 +86,13 @@ std::unique_ptr<MapModels> build_map_models(const EstimatorSpec& s, const Estima
   return m;
 }
 
-std::string describe(const EstimatorSpec& s, std::uint32_t particles) {
+// The configuration, not the count of the moment (which KLD moves): "augmented MCL (20000 particles, KLD from 500)".
+std::string describe(const EstimatorSpec& s) {
   std::string d = std::string(to_string(s.model)) + " model, ";
   if (s.filter == est::loop::Filter::ekf) return d + "EKF localization on landmark features";
-  return d + "augmented MCL (" + std::to_string(particles) + " particles), " + to_string(s.range_model) +
-         " range model";
+  const std::string kld = s.mcl.kld ? ", KLD from " + std::to_string(s.mcl.kld_config.n_min) : "";
+  return d + "augmented MCL (" + std::to_string(s.particles) + " particles" + kld + "), " +
+         to_string(s.range_model) + " range model";
 }
 
 // Per-model instantiations (node/pipeline_<model>.cpp).

@@ -85,7 +85,7 @@ inline est::loop::ControlAssembler<est::HolonomicPoseMotionModel>::Config contro
 }
 
 
-std::string describe(const EstimatorSpec& spec, std::uint32_t particles);
+std::string describe(const EstimatorSpec& spec);
 
 template <typename ScanModel>
 ScanModel make_scan_model(const EstimatorSpec& spec, const MapModels& m);
@@ -145,7 +145,7 @@ class PipelineImpl final : public EstimatorPipeline {
   std::uint32_t published() const override { return pipeline_.port().published(); }
   std::uint32_t nonfinite_estimates() const override { return pipeline_.port().nonfinite_estimates(); }
   est::loop::InputKinds inputs() const override { return loop_.inputs(); }
-  std::string description() const override { return describe(spec_, particles().count); }
+  std::string description() const override { return describe(spec_); }
 
   est::PoseEstimate estimate() const override { return estimator_.estimate(); }
 

@@ -303,10 +303,15 @@ void plot_errors(const SimResult& r, const ScenarioConfig& sc, const FilterOptio
   }
   gp << "unset logscale y\nset format x '%g'\nset xlabel 'time (s)'\nset yrange [-0.7:3.7]\n";
   gp << "set ytics ('encoders' 0, 'steering' 1, 'scans' 2, 'landmarks' 3)\nset ylabel 'injected faults'\n";
-  gp << "plot 'fault_times.dat' using 1:($3 == 1 ? $2 : NaN) with points pt 9 ps 1.3 lc rgb '#d62728' title "
-        "'must be rejected', \\\n"
-     << "  'fault_times.dat' using 1:($3 == 0 ? $2 : NaN) with points pt 8 ps 1.3 lc rgb '#555555' title "
-        "'dropped or reordered'\n";
+  bool any_fault = false;  // gnuplot warns on an empty file: a run without faults plots none
+  for (const InjectedFault& x : r.stream.faults) any_fault = any_fault || x.key.rfind("event.", 0) != 0;
+  if (any_fault)
+    gp << "plot 'fault_times.dat' using 1:($3 == 1 ? $2 : NaN) with points pt 9 ps 1.3 lc rgb '#d62728' title "
+          "'must be rejected', \\\n"
+       << "  'fault_times.dat' using 1:($3 == 0 ? $2 : NaN) with points pt 8 ps 1.3 lc rgb '#555555' title "
+          "'dropped or reordered'\n";
+  else
+    gp << "set xrange [0:" << sc.duration_s << "]\nplot NaN title 'no faults injected'\n";
   gp << "unset multiplot\n";
   gp.close();
   run_gnuplot(gp_path, png);
