@@ -1,6 +1,7 @@
 // LCM backend over memq:// (in process): every input kind reaches the SensorPort on configurable channels, every
 // output can be read back, and malformed, mis-shaped or bad-valued messages are rejected with their reason counted;
-// the twist and odometry conversions round-trip and decode only through the guard.
+// the twist and odometry conversions round-trip and decode only through the guard; team messages go out on the team
+// channel and come in through the team validator.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
@@ -24,7 +25,7 @@ struct Recorder final : hal::PortImplementation<Recorder, hal::SensorPort>, hal:
   std::vector<hal::OdometrySample> odometry;
   std::vector<std::vector<float>> scans;
   std::vector<hal::ScanGeometry> geometry;
-  std::vector<hal::TeamMessage> team;
+  std::vector<est::team::TeamMessage> team;
   std::vector<std::vector<hal::LandmarkFeature>> sightings;
   std::vector<hal::TimeNs> sighting_stamps;
   void handle(const hal::WheelTicks& s) { wheels.push_back(s); }
@@ -39,7 +40,7 @@ struct Recorder final : hal::PortImplementation<Recorder, hal::SensorPort>, hal:
     sightings.emplace_back(s.features, s.features + s.count);
     sighting_stamps.push_back(s.stamp_ns);
   }
-  void on_team_message(const hal::TeamMessage& m) override { team.push_back(m); }
+  void on_team_message(const est::team::TeamMessage& m) override { team.push_back(m); }
 };
 
 // Counts the checked samples that pass the gate.
@@ -96,7 +97,9 @@ TEST_CASE("sensor inputs on configured channels reach the SensorPort as HAL samp
   lcm::LCM lcm("memq://");
   REQUIRE(lcm.good());
   Recorder port;
-  hal::lcm::LcmInputs in(lcm, custom_channels(), port, &port);
+  hal::lcm::LcmInputs in(lcm, custom_channels(), port);
+  hal::team::TeamValidator validator(4, 0);
+  in.subscribe_team(port, validator);
 
   hal::WheelTicks w;
   w.stamp_ns = 500;
@@ -109,15 +112,17 @@ TEST_CASE("sensor inputs on configured channels reach the SensorPort as HAL samp
   lcm.publish("ROBOT7/STEER", &steer);
   const est_lcm::range_scan_t scan = small_scan();
   lcm.publish("ROBOT7/LIDAR", &scan);
-  hal::TeamMessage t;
+  est::team::TeamMessage t;
   t.stamp_ns = 700;
-  t.robot_id = 3;
-  t.v_mps = 0.5f;
-  t.omega_rps = -0.1f;
-  t.dt_s = 0.1f;
+  t.robot = 3;
+  t.seq = 7;
+  t.control.kind = est::team::ControlKind::velocity;
+  t.control.v1 = 0.5f;
+  t.control.w = -0.1f;
+  t.control.dt_s = 0.1f;
   t.count = 2;
-  t.measurements[0] = {hal::TeamTarget::landmark, 4.0f, 0.5f, 12};
-  t.measurements[1] = {hal::TeamTarget::robot, 2.5f, -1.0f, 1};
+  t.measurements[0] = {est::team::TargetKind::landmark, true, 4.0f, 0.5f, 12};
+  t.measurements[1] = {est::team::TargetKind::robot, false, 2.5f, 0.0f, 1};
   const est_lcm::team_message_t team = hal::lcm::to_lcm(t);
   lcm.publish("TEAM", &team);
   const hal::LandmarkFeature features[2] = {{4.0f, 0.5f, 12.0f, 3}, {2.5f, -1.0f, 0.25f, -1}};
@@ -138,9 +143,12 @@ TEST_CASE("sensor inputs on configured channels reach the SensorPort as HAL samp
   CHECK(std::isnan(port.scans[0][2]));
   CHECK(port.geometry[0].range_max_m == 20.0f);
   REQUIRE(port.team.size() == 1);
+  CHECK(port.team[0].robot == 3);
+  CHECK(port.team[0].seq == 7);
   CHECK(port.team[0].count == 2);
-  CHECK(port.team[0].measurements[1].type == hal::TeamTarget::robot);
-  CHECK(port.team[0].measurements[0].target_id == 12);
+  CHECK(port.team[0].measurements[1].target == est::team::TargetKind::robot);
+  CHECK_FALSE(port.team[0].measurements[1].has_bearing);
+  CHECK(port.team[0].measurements[0].id == 12);
   REQUIRE(port.sightings.size() == 1);
   CHECK(port.sighting_stamps[0] == 800);
   REQUIRE(port.sightings[0].size() == 2);
@@ -149,8 +157,10 @@ TEST_CASE("sensor inputs on configured channels reach the SensorPort as HAL samp
   CHECK(port.sightings[0][1].bearing_rad == -1.0f);
   CHECK(port.sightings[0][1].signature == 0.25f);
   CHECK(port.sightings[0][1].id == -1);
-  CHECK(in.accepted() == 5);
+  CHECK(in.accepted() == 4);  // the sensor samples
   CHECK(in.rejects().total() == 0);
+  CHECK(validator.accepted() == 1);
+  CHECK(in.team_rejects().total() == 0);
 }
 
 TEST_CASE("estimates, status, particles and ground truth are published and read back", "[lcm]") {
@@ -222,7 +232,9 @@ TEST_CASE("garbage, truncated and wrong-type payloads are malformed; bad counts 
           "[lcm]") {
   lcm::LCM lcm("memq://");
   Recorder port;
-  hal::lcm::LcmInputs in(lcm, custom_channels(), port, &port);
+  hal::lcm::LcmInputs in(lcm, custom_channels(), port);
+  hal::team::TeamValidator validator(4, 0);
+  in.subscribe_team(port, validator);
 
   const std::uint8_t garbage[5] = {1, 2, 3, 4, 5};
   lcm.publish("ROBOT7/STEER", garbage, sizeof garbage);
@@ -259,22 +271,30 @@ TEST_CASE("garbage, truncated and wrong-type payloads are malformed; bad counts 
 
   ticks = hal::lcm::to_lcm(five, 32);  // a 32-bit counter where 16 bits are configured
   lcm.publish("ROBOT7/ODOM_TICKS", &ticks);
-  hal::TeamMessage t;
+  // Team payloads: what does not decode is the backend's to count, what decodes the validator's.
+  est::team::TeamMessage t;
+  t.robot = 1;
   t.count = 1;
-  t.measurements[0] = {hal::TeamTarget::landmark, 1.0f, 0.0f, 1};
+  t.measurements[0] = {est::team::TargetKind::landmark, false, 1.0f, 0.0f, 1};
   est_lcm::team_message_t team = hal::lcm::to_lcm(t);
-  team.measurements[0].type = 7;
+  lcm.publish("TEAM", garbage, sizeof garbage);
+  team.measurements[0].has_bearing = 2;
   lcm.publish("TEAM", &team);
-  team.measurements[0].type = est_lcm::team_measurement_t::LANDMARK;
+  team.measurements[0].has_bearing = 0;
+  team.measurements[0].target = 7;
+  lcm.publish("TEAM", &team);
+  team.measurements[0].target = est_lcm::team_measurement_t::LANDMARK;
   team.measurements[0].range_m = kNaN;
   lcm.publish("TEAM", &team);
   team.measurements[0].range_m = -1.0f;
   lcm.publish("TEAM", &team);
   pump(lcm);
-  CHECK(in.rejects()[LcmReject::bad_shape] == 2);
-  CHECK(in.rejects()[LcmReject::bad_value] == 2);
-  CHECK(in.team_faults()[hal::Fault::not_finite] == 1);
-  CHECK(in.team_faults()[hal::Fault::out_of_range] == 1);
+  CHECK(in.rejects()[LcmReject::bad_shape] == 1);
+  CHECK(in.rejects()[LcmReject::bad_value] == 0);
+  CHECK(in.team_rejects()[LcmReject::malformed] == 1);
+  CHECK(in.team_rejects()[LcmReject::bad_shape] == 1);
+  CHECK(validator.counts()[est::team::TeamReject::malformed] == 3);
+  CHECK(validator.rejected() == 3);
   CHECK(port.wheels.empty());
   CHECK(port.steering.empty());
   CHECK(port.scans.empty());
@@ -430,4 +450,54 @@ TEST_CASE("through the HAL gate: a NaN twist, a too fast one and an odometry jum
   CHECK(gate.twist().faults()[hal::Fault::out_of_range] == 1u);
   CHECK(gate.odometry().faults()[hal::Fault::out_of_range] == 1u);
   CHECK(sink.n == 2);  // the good twist and the first odometry pose
+}
+
+TEST_CASE("team messages published by LcmOutputs reach the TeamPort through the validator: echo and duplicates "
+          "refused, out of order passed on", "[lcm][team]") {
+  lcm::LCM lcm("memq://");
+  hal::lcm::Channels ch;
+  ch.team = "TEAM";
+  hal::lcm::LcmOutputs out(lcm, ch);
+  Recorder port;
+  hal::lcm::LcmInputs in(lcm, custom_channels(), port);
+  hal::team::TeamValidator validator(3, 0);  // this is robot 0 of three
+  in.subscribe_team(port, validator);
+  in.subscribe_team(port, validator);  // again: still one subscription
+
+  est::team::TeamMessage m;
+  m.robot = 1;
+  m.control.kind = est::team::ControlKind::omni;
+  m.control.dt_s = 0.1f;
+  m.control.v1 = 0.25f;
+  m.control.v2 = -0.125f;
+  m.control.w = 0.5f;
+  m.count = 1;
+  m.measurements[0] = {est::team::TargetKind::robot, true, 3.0f, -0.75f, est::team::kAnonymous};
+  for (std::uint32_t seq : {1u, 3u, 2u, 3u}) {  // 2 late but new, then 3 again
+    m.seq = seq;
+    m.stamp_ns = static_cast<hal::TimeNs>(seq) * 100 * hal::kNsPerMs;
+    out.publish_team(m);
+  }
+  m.robot = 0;  // this robot's own message, back from the network
+  m.seq = 4;
+  out.publish_team(m);
+  pump(lcm);
+
+  REQUIRE(port.team.size() == 3);
+  CHECK(port.team[0].seq == 1u);
+  CHECK(port.team[1].seq == 3u);
+  CHECK(port.team[2].seq == 2u);
+  CHECK(port.team[2].stamp_ns == 200 * hal::kNsPerMs);
+  CHECK(port.team[2].control.kind == est::team::ControlKind::omni);
+  CHECK(port.team[2].control.v2 == -0.125f);
+  CHECK(port.team[2].measurements[0].id == est::team::kAnonymous);
+  CHECK(port.team[2].measurements[0].bearing_rad == -0.75f);
+  CHECK(validator.counts()[est::team::TeamReject::none] == 2u);
+  CHECK(validator.counts()[est::team::TeamReject::out_of_order] == 1u);
+  CHECK(validator.counts()[est::team::TeamReject::duplicate] == 1u);
+  CHECK(validator.counts()[est::team::TeamReject::unknown_robot] == 1u);
+  CHECK(validator.counts(0)[est::team::TeamReject::unknown_robot] == 1u);
+  CHECK(validator.counts(1)[est::team::TeamReject::duplicate] == 1u);
+  CHECK(in.team_rejects().total() == 0u);
+  CHECK(out.publish_failures() == 0u);
 }

@@ -25,6 +25,7 @@ constexpr Section kSections[] = {
     {"loop_bicycle", section_loop_bicycle, 0x90887a3d1067bd82ull},
     {"loop_omni", section_loop_omni, 0x3e907e424f4e37b4ull},
     {"loop_holonomic", section_loop_holonomic, 0x1c686210d16283bcull},
+    {"coop_ekf", section_coop_ekf, 0xbc783a5dca41b094ull},
 };
 
 }  // namespace

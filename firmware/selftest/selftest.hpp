@@ -43,5 +43,6 @@ std::uint64_t section_loop_odometry();
 std::uint64_t section_loop_bicycle();
 std::uint64_t section_loop_omni();
 std::uint64_t section_loop_holonomic();
+std::uint64_t section_coop_ekf();
 
 }  // namespace est::selftest

@@ -5,15 +5,22 @@
 
 namespace hal::lcm {
 
-LcmInputs::LcmInputs(::lcm::LCM& lcm, InputConfig config, SensorPort& port, TeamPort* team)
-    : lcm_(lcm), config_(std::move(config)), port_(port), team_(team) {
+LcmInputs::LcmInputs(::lcm::LCM& lcm, InputConfig config, SensorPort& port)
+    : lcm_(lcm), config_(std::move(config)), port_(port) {
   subscribe_all(RawSamples{});
-  if (team_ != nullptr) subscriptions_.push_back(lcm_.subscribe(config_.channels.team, &LcmInputs::on_team, this));
 }
 
 LcmInputs::~LcmInputs() {
   for (::lcm::Subscription* s : subscriptions_)
     if (s != nullptr) lcm_.unsubscribe(s);
+  if (team_subscription_ != nullptr) lcm_.unsubscribe(team_subscription_);
+}
+
+void LcmInputs::subscribe_team(TeamPort& port, team::TeamValidator& validator) {
+  team_port_ = &port;
+  team_validator_ = &validator;
+  if (team_subscription_ == nullptr)
+    team_subscription_ = lcm_.subscribe(config_.channels.team, &LcmInputs::on_team, this);
 }
 
 template <typename... Samples>
@@ -49,11 +56,13 @@ void LcmInputs::receive(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {
 
 void LcmInputs::on_team(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {
   est_lcm::team_message_t m{};
-  Fault content = Fault::none;
-  LcmReject r = decode_guarded(rbuf->data, rbuf->data_size, m, static_cast<std::int64_t>(kMaxTeamMeasurements));
-  if (r == LcmReject::none) r = to_hal(m, team_message_, content);
-  if (content != Fault::none) team_faults_.add(content);
-  if (note(r) && team_ != nullptr) team_->on_team_message(team_message_);
+  LcmReject r = decode_guarded(rbuf->data, rbuf->data_size, m, std::int64_t{est::team::kMaxTeamMeasurements});
+  if (r == LcmReject::none) r = to_hal(m, team_message_);
+  if (r != LcmReject::none) {
+    team_rejects_.add(r);
+    return;
+  }
+  if (team::TeamValidator::accepted(team_validator_->check(team_message_))) team_port_->on_team_message(team_message_);
 }
 
 template <typename Message>
@@ -84,6 +93,6 @@ void LcmOutputs::publish_particles(TimeNs stamp_ns, const float* x, const float*
 
 void LcmOutputs::publish_ground_truth(const est_lcm::ground_truth_t& truth) { send(channels_.ground_truth, truth); }
 
-void LcmOutputs::publish_team(const TeamMessage& message) { send(channels_.team, to_lcm(message)); }
+void LcmOutputs::publish_team(const est::team::TeamMessage& message) { send(channels_.team, to_lcm(message)); }
 
 }  // namespace hal::lcm

@@ -16,48 +16,6 @@ const char* to_string(LcmReject r) {
   return "unknown";
 }
 
-LcmReject to_hal(const est_lcm::team_message_t& m, TeamMessage& out, Fault& content) {
-  content = Fault::none;
-  if (m.num_measurements < 0 || static_cast<std::size_t>(m.num_measurements) > kMaxTeamMeasurements ||
-      m.measurements.size() != static_cast<std::size_t>(m.num_measurements))
-    return LcmReject::bad_count;
-  out.stamp_ns = m.stamp_ns;
-  out.robot_id = m.robot_id;
-  out.v_mps = m.v_mps;
-  out.omega_rps = m.omega_rps;
-  out.dt_s = m.dt_s;
-  out.count = m.measurements.size();
-  for (std::size_t i = 0; i < out.count; ++i) {
-    const est_lcm::team_measurement_t& z = m.measurements[i];
-    if (z.type != est_lcm::team_measurement_t::LANDMARK && z.type != est_lcm::team_measurement_t::ROBOT)
-      return LcmReject::bad_shape;
-    out.measurements[i] = {z.type == est_lcm::team_measurement_t::ROBOT ? TeamTarget::robot : TeamTarget::landmark,
-                           z.range_m, z.bearing_rad, z.target_id};
-  }
-  content = check_team_message(out);
-  return content == Fault::none ? LcmReject::none : LcmReject::bad_value;
-}
-
-est_lcm::team_message_t to_lcm(const TeamMessage& t) {
-  est_lcm::team_message_t m{};
-  m.stamp_ns = t.stamp_ns;
-  m.robot_id = t.robot_id;
-  m.v_mps = t.v_mps;
-  m.omega_rps = t.omega_rps;
-  m.dt_s = t.dt_s;
-  for (std::size_t i = 0; i < t.count && i < kMaxTeamMeasurements; ++i) {
-    est_lcm::team_measurement_t z;
-    z.type = t.measurements[i].type == TeamTarget::robot ? est_lcm::team_measurement_t::ROBOT
-                                                          : est_lcm::team_measurement_t::LANDMARK;
-    z.range_m = t.measurements[i].range_m;
-    z.bearing_rad = t.measurements[i].bearing_rad;
-    z.target_id = t.measurements[i].target_id;
-    m.measurements.push_back(z);
-  }
-  m.num_measurements = static_cast<std::int16_t>(m.measurements.size());
-  return m;
-}
-
 est_lcm::pose_estimate_t to_lcm(const Estimate& e) {
   est_lcm::pose_estimate_t m{};
   m.stamp_ns = e.stamp_ns;

@@ -231,7 +231,8 @@ void add_options(CLI::App& app, NodeConfig& c) {
   add_choice(app, "--filter", e.filter, {"mcl", "ekf"},
              "mcl: augmented Monte Carlo localization on range scans and the occupancy map (tracking or global); "
              "ekf: EKF localization on landmark sightings (range, bearing, signature; known or unknown "
-             "correspondence) and a landmark map (tracking from --initial-pose; scans are counted as unused)",
+             "correspondence) and a landmark map (tracking from --initial-pose; scans are counted as unused); coop-ekf: "
+             "one robot's node of a cooperative EKF-SLAM team (its own options: --filter coop-ekf --help)",
              ekf);
   app.add_option("--landmarks", c.landmarks,
                  "landmark map: 'office' (the simulator's office, 16 posts, signatures 1..16) or a CSV file of "

@@ -95,4 +95,18 @@ void render_scatter_png(const ScatterPlot& plot, const std::string& png_path) {
   if (!fs::exists(png) || fs::file_size(png) == 0) throw std::runtime_error("gnuplot wrote no " + png.string());
 }
 
+void run_gnuplot(const std::filesystem::path& script, const std::filesystem::path& png) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::remove(png, ec);
+  // The scripts name their data files relative to their folder, so they also run by hand there.
+  const int rc = run_program({"sh", "-c", "cd \"$1\" && exec gnuplot \"$2\"", "sh",
+                              script.parent_path().string(), script.filename().string()});
+  if (rc != 0)
+    throw std::runtime_error("gnuplot " + script.string() + " failed (exit " + std::to_string(rc) +
+                             "); is gnuplot installed (scripts/setup)?");
+  if (!fs::exists(png) || fs::file_size(png) == 0) throw std::runtime_error("gnuplot wrote no " + png.string());
+}
+
+
 }  // namespace sim

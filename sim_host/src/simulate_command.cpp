@@ -14,6 +14,7 @@
 #include "sim/record.hpp"
 #include "sim/scenario.hpp"
 #include "sim/simulate.hpp"
+#include "team/team_scenarios.hpp"
 
 namespace sim {
 namespace {
@@ -234,6 +235,7 @@ void add_simulate_command(CLI::App& app) {
   auto filter_kind = std::make_shared<std::string>("mcl");
   auto no_plots = std::make_shared<bool>(false);
   auto no_kld = std::make_shared<bool>(false);
+  auto scenario = std::make_shared<std::string>();
   CLI::App* c = app.add_subcommand(
       "simulate",
       "Host simulation end to end: a robot drives a route in a world; encoder, steering and 2D rangefinder streams "
@@ -285,8 +287,25 @@ void add_simulate_command(CLI::App& app) {
                 "EKF: heading noise added to every 10 ms prediction, rad (what the odometry model leaves out)")
       ->capture_default_str();
   c->add_flag("--no-plots", *no_plots, "skip the PNG figures (no gnuplot needed)");
+  std::string team_help = "a robot-team scenario instead of the single robot (then --seed, --duration, --out and "
+                          "--no-plots apply):";
+  for (const team::TeamScenarioInfo& t : team::team_scenarios()) team_help += "\n  " + t.name + ": " + t.what;
+  c->add_option("--scenario", *scenario, team_help)->check([](const std::string& v) {
+    return team::is_team_scenario(v) ? std::string() : "unknown team scenario '" + v + "'";
+  });
   CLI::Option* kidnap_opt = c->get_option("--kidnap-at");
+  CLI::Option* duration_opt = c->get_option("--duration");
   c->callback([=]() {
+    if (!scenario->empty()) {
+      team::TeamRunOptions t;
+      t.scenario = *scenario;
+      t.out = *out;
+      t.seed = opts->config.seed;
+      t.duration_s = duration_opt->count() > 0 ? opts->config.duration_s : -1.0;
+      t.plots = !*no_plots;
+      team::run_team_scenario(t);
+      return;
+    }
     ScenarioConfig sc = finish_scenario(*opts);
     FilterOptions fo = *filter;
     const bool ekf = *filter_kind == "ekf";

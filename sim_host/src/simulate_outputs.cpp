@@ -106,18 +106,6 @@ void write_snapshot_data(const ParticleSnapshot& s, const fs::path& path) {
   for (const est::Pose2& p : s.particles) f << p.x << " " << p.y << " " << p.theta << "\n";
 }
 
-void run_gnuplot(const fs::path& script, const fs::path& png) {
-  std::error_code ec;
-  fs::remove(png, ec);
-  // The scripts name their data files relative to their folder, so they also run by hand there.
-  const int rc = run_program({"sh", "-c", "cd \"$1\" && exec gnuplot \"$2\"", "sh",
-                              script.parent_path().string(), script.filename().string()});
-  if (rc != 0)
-    throw std::runtime_error("gnuplot " + script.string() + " failed (exit " + std::to_string(rc) +
-                             "); is gnuplot installed (scripts/setup)?");
-  if (!fs::exists(png) || fs::file_size(png) == 0) throw std::runtime_error("gnuplot wrote no " + png.string());
-}
-
 std::string q(const fs::path& p) { return "'" + p.filename().string() + "'"; }
 
 // Map framing shared by the map plots.

@@ -1,11 +1,13 @@
 // libFuzzer target: any payload decoded as each est_lcm type through the guarded decoder, converted to HAL types
-// and judged by the HAL validators (twists and odometry poses included). A payload that decodes re-encodes to the same bytes (LCM is canonical).
+// and judged by the HAL validators (twists and odometry poses included, team messages by the team validator). A
+// payload that decodes re-encodes to the same bytes (LCM is canonical).
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <vector>
 
 #include "hal/lcm/lcm_convert.hpp"
+#include "hal/team/validator.hpp"
 #include "hal/validated_inputs.hpp"
 
 using hal::lcm::LcmReject;
@@ -93,10 +95,23 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       break;
     }
     case 3: {
+      // The conversion is lossless (what it accepts converts back to the same bytes); the validator takes anything.
       est_lcm::team_message_t m;
-      hal::TeamMessage t;
-      hal::Fault f;
-      if (decode_and_check(data, size, m, 32)) (void)hal::lcm::to_hal(m, t, f);
+      static est::team::TeamMessage t;
+      static hal::team::TeamValidator team(est::team::kMaxTeamRobots, 0);
+      if (decode_and_check(data, size, m, est::team::kMaxTeamMeasurements) &&
+          hal::lcm::to_hal(m, t) == LcmReject::none) {
+        const est_lcm::team_message_t back = hal::lcm::to_lcm(t);
+        std::vector<std::uint8_t> a(static_cast<std::size_t>(m.getEncodedSize()));
+        std::vector<std::uint8_t> b(static_cast<std::size_t>(back.getEncodedSize()));
+        (void)m.encode(a.data(), 0, static_cast<int>(a.size()));
+        (void)back.encode(b.data(), 0, static_cast<int>(b.size()));
+        if (a != b) __builtin_trap();
+        if (hal::team::TeamValidator::accepted(team.check(t)) &&
+            (t.count < 0 || t.count > est::team::kMaxTeamMeasurements || t.robot < 1 ||
+             t.robot >= est::team::kMaxTeamRobots))
+          __builtin_trap();
+      }
       break;
     }
     case 4: {

@@ -1,6 +1,7 @@
 #pragma once
 // Plots for the host tools: a gnuplot script is generated next to the PNG and gnuplot (pngcairo) is run on it as a
 // subprocess. Host only; errors are thrown as std::runtime_error with the command and what went wrong.
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,10 @@ struct ScatterPlot {
 
 // Writes <png_path without .png>.gp and runs gnuplot on it; throws if gnuplot is missing or fails, or no PNG appears.
 void render_scatter_png(const ScatterPlot& plot, const std::string& png_path);
+
+// Runs gnuplot on `script` in the script's folder (its data files are named relative to it, so it also runs by hand
+// there); throws if gnuplot fails or `png` is not written.
+void run_gnuplot(const std::filesystem::path& script, const std::filesystem::path& png);
 
 // Runs a program with arguments (no shell), returns its exit status (-1 if it could not be started).
 int run_program(const std::vector<std::string>& argv);

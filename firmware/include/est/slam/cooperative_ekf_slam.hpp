@@ -15,6 +15,7 @@
 //   robot-robot range           |p_b - p_a|           H touches robots a and b
 //   robot-landmark range        |m_k - p_a|           H touches robot a and landmark k (range-only, the exercise)
 //   robot-landmark range/bearing (eq. 7.12)           H touches robot a and landmark k
+//   robot-robot range/bearing (eq. 7.12, b as the landmark) H touches robots a and b
 // H is never formed as a dense m x n matrix: only its one to three nonzero blocks.
 //
 // New landmarks: a range/bearing landmark enters the state at once through the inverse measurement with covariance
@@ -70,6 +71,11 @@ class CooperativeEkfSlam {
 
   CooperativeEkfSlam() = default;
   explicit CooperativeEkfSlam(const Params& p) : params_(p), init_(p.range_only_init) {}
+  // New parameters in place (no temporary of the filter's size on the stack); call init() next.
+  void configure(const Params& p) {
+    params_ = p;
+    init_ = Initializer(p.range_only_init);
+  }
 
   // The team: `robots` robots with independent Gaussian priors (the priors that hold the unobservable directions).
   // Refused (false, filter emptied) for a bad count or a non-finite / non-positive-definite prior.
@@ -182,6 +188,17 @@ class CooperativeEkfSlam {
     return fuse1(H, range - h.range, sigma_range);
   }
 
+  // Range and bearing of robot b from robot a (eq. 7.12 with robot b's position as the landmark): the bearing in a's
+  // frame for pose robots, in the world frame for point robots.
+  CorrectionResult correct_robot_range_bearing(int a, int b, float range, float bearing, const LandmarkNoise& noise) {
+    if (a < 0 || b < 0 || a >= R_ || b >= R_ || a == b || !(noise.sigma_range > 0.0f) || !(noise.sigma_bearing > 0.0f))
+      return count({CorrectionStatus::rejected_bad_input, -1.0f});
+    if (!fmath::isfinite(range) || !fmath::isfinite(bearing) || !fmath::isfinite(noise.sigma_range) ||
+        !fmath::isfinite(noise.sigma_bearing))
+      return count({CorrectionStatus::rejected_nonfinite, -1.0f});
+    return count(fuse_range_bearing(a, D * b, range, bearing, noise));
+  }
+
   // Range measured from robot a to landmark id; an id not yet in the state is buffered for its initialization
   // (pending_initialization), and enters the state when the ranges fix it.
   CorrectionResult correct_landmark_range(int a, std::int32_t id, float range, float sigma_range) {
@@ -213,18 +230,7 @@ class CooperativeEkfSlam {
     Q(1, 1) = noise.sigma_bearing * noise.sigma_bearing;
     const int k = landmark_index(id);
     if (k < 0) return count(insert_range_bearing(a, id, Eigen::Vector2f(range, bearing), Q));
-    const int lo = landmark_offset(k);
-    const RobotVector x = mu_.template segment<D>(D * a);
-    const auto h = range_bearing_measurement<D>(x, position(lo));
-    if (!h.ok) return count({CorrectionStatus::rejected_bad_input, -1.0f});
-    SparseJacobian<2> H;
-    H.template add<D>(D * a, h.H_robot);
-    H.template add<2>(lo, h.H_landmark);
-    const Eigen::Vector2f nu(range - h.z(0), fmath::normalize_angle(bearing - h.z(1)));
-    const CorrectionResult r =
-        sparse_joseph_update<N, 2>(mu_, P_, dim(), H, nu, Q, params_.gate.chi2_2dof, params_.guard, angle_);
-    last_nis_ = r.nis;
-    return count(r);
+    return count(fuse_range_bearing(a, landmark_offset(k), range, bearing, noise));
   }
 
   // Predicted range/bearing of landmark id from robot a, its innovation covariance S = H P H^T + Q, for gating and
@@ -298,6 +304,24 @@ class CooperativeEkfSlam {
         sparse_joseph_update<N, 1>(mu_, P_, dim(), H, nu, Q, params_.gate.chi2_1dof, params_.guard, angle_);
     last_nis_ = r.nis;
     return count(r);
+  }
+
+  // Range and bearing from robot a to the point at `target` (a landmark, or another robot's position entries).
+  CorrectionResult fuse_range_bearing(int a, int target, float range, float bearing, const LandmarkNoise& noise) {
+    Eigen::Matrix2f Q = Eigen::Matrix2f::Zero();
+    Q(0, 0) = noise.sigma_range * noise.sigma_range;
+    Q(1, 1) = noise.sigma_bearing * noise.sigma_bearing;
+    const RobotVector x = mu_.template segment<D>(D * a);
+    const auto h = range_bearing_measurement<D>(x, position(target));
+    if (!h.ok) return {CorrectionStatus::rejected_bad_input, -1.0f};
+    SparseJacobian<2> H;
+    H.template add<D>(D * a, h.H_robot);
+    H.template add<2>(target, h.H_landmark);
+    const Eigen::Vector2f nu(range - h.z(0), fmath::normalize_angle(bearing - h.z(1)));
+    const CorrectionResult r =
+        sparse_joseph_update<N, 2>(mu_, P_, dim(), H, nu, Q, params_.gate.chi2_2dof, params_.guard, angle_);
+    last_nis_ = r.nis;
+    return r;
   }
 
   CorrectionResult buffer_range(int a, std::int32_t id, float range, float sigma) {

@@ -13,7 +13,7 @@ struct Channels {
   std::string odometry = "EST_ODOMETRY";
   std::string range_scan = "EST_RANGE_SCAN";
   std::string landmarks = "EST_LANDMARKS";
-  std::string team = "EST_TEAM";
+  std::string team = "EST_TEAM";  // one channel for the whole team: every robot's message, the sender inside it
   std::string pose = "EST_POSE";
   std::string particles = "EST_PARTICLES";
   std::string status = "EST_STATUS";

@@ -1,7 +1,7 @@
 #pragma once
-// The LCM backend: sensor inputs from LCM channels into a hal::SensorPort (and team messages into a TeamPort),
-// estimates and health out to LCM channels. Every sensor is received the same way, by its LcmCodec
-// (hal/sensors/<sensor>/lcm.hpp). Host only.
+// The LCM backend: sensor inputs from LCM channels into a hal::SensorPort and, when asked, the team's messages
+// through a team validator into a hal::TeamPort; estimates, health and this robot's team message out to LCM
+// channels. Every sensor is received the same way, by its LcmCodec (hal/sensors/<sensor>/lcm.hpp). Host only.
 #include <cstdint>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
@@ -11,6 +11,7 @@
 #include "hal/lcm/channels.hpp"
 #include "hal/lcm/lcm_convert.hpp"
 #include "hal/sensor_port.hpp"
+#include "hal/team/validator.hpp"
 #include "hal/team_message.hpp"
 
 namespace hal::lcm {
@@ -18,14 +19,21 @@ namespace hal::lcm {
 // Subscribes on construction, unsubscribes on destruction. Messages arrive during lcm.handle*() calls.
 class LcmInputs {
  public:
-  LcmInputs(::lcm::LCM& lcm, InputConfig config, SensorPort& port, TeamPort* team = nullptr);
+  LcmInputs(::lcm::LCM& lcm, InputConfig config, SensorPort& port);
   ~LcmInputs();
   LcmInputs(const LcmInputs&) = delete;
   LcmInputs& operator=(const LcmInputs&) = delete;
 
+  // Receives the team channel (config.channels.team) from now on: each message is decoded (a payload that is no
+  // team message is counted in team_rejects()), judged and counted by `validator`, and the accepted ones, in order or
+  // out of order, go to `port`. A second call replaces the validator and port. Both must outlive this.
+  void subscribe_team(TeamPort& port, team::TeamValidator& validator);
+
+  // Sensor payloads refused before the HAL's validators, by reason; and the sensor samples passed on.
   const LcmRejectCounters& rejects() const { return rejects_; }
-  const FaultCounters& team_faults() const { return team_faults_; }
   std::uint64_t accepted() const { return accepted_; }
+  // Team payloads that did not decode (malformed, bad_count, bad_shape); what decodes the validator counts.
+  const LcmRejectCounters& team_rejects() const { return team_rejects_; }
   // Whether `channel` is one of the sensor channels this receives.
   bool is_input_channel(const std::string& channel) const;
 
@@ -40,13 +48,15 @@ class LcmInputs {
   ::lcm::LCM& lcm_;
   InputConfig config_;
   SensorPort& port_;
-  TeamPort* team_;
   std::vector<::lcm::Subscription*> subscriptions_;
   std::vector<std::string> input_channels_;
   LcmRejectCounters rejects_;
-  FaultCounters team_faults_;
   std::uint64_t accepted_ = 0;
-  TeamMessage team_message_;  // large: kept here rather than on the stack
+  TeamPort* team_port_ = nullptr;
+  team::TeamValidator* team_validator_ = nullptr;
+  ::lcm::Subscription* team_subscription_ = nullptr;
+  LcmRejectCounters team_rejects_;
+  est::team::TeamMessage team_message_;  // large: kept here rather than on the stack
 };
 
 class LcmOutputs final : public EstimateSink {
@@ -59,7 +69,8 @@ class LcmOutputs final : public EstimateSink {
   void publish_particles(TimeNs stamp_ns, const float* x, const float* y, const float* theta, const float* weight,
                          std::size_t n, std::size_t decimation);
   void publish_ground_truth(const est_lcm::ground_truth_t& truth);
-  void publish_team(const TeamMessage& message);
+  // This robot's message of a step, on the team channel (Channels::team; the sender is message.robot).
+  void publish_team(const est::team::TeamMessage& message);
 
   std::uint64_t publish_failures() const { return failures_; }
 
