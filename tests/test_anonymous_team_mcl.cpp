@@ -26,10 +26,11 @@ using est::team::RobotSighting;
 
 constexpr int kN = 3;
 #if defined(__SANITIZE_ADDRESS__)
-constexpr std::uint32_t kParticles = 500;  // the sanitizers are ~30x slower; the bounds stay the same
+constexpr std::uint32_t kParticles = 500;  // the sanitizers are slower (even at -O1); the bounds stay the same
 #else
 constexpr std::uint32_t kParticles = 1000;
 #endif
+constexpr int kLocalizeSteps = 400, kRepeatSteps = 120;
 using Filter = AnonymousTeamMcl<kN, kParticles>;
 
 constexpr float kDt = 0.1f;     // s, one step
@@ -171,7 +172,7 @@ TEST_CASE("every robot localizes globally from a uniform start: within 0.3 m aft
   auto f = make_filter(5u);
   for (int r = 0; r < kN; ++r) CHECK_FALSE(f->estimate(r).localized);
   float worst_after = 0.0f;
-  for (int k = 1; k <= 400; ++k) {
+  for (int k = 1; k <= kLocalizeSteps; ++k) {
     world.step(*f);
     if (k >= 150)
       for (int r = 0; r < kN; ++r) {
@@ -260,7 +261,7 @@ TEST_CASE("the same seed gives bit-identical estimates and beliefs, another seed
   auto run = [](std::uint64_t seed, std::vector<float>& out) {
     World world(5, 55u);
     auto f = make_filter(seed);
-    for (int k = 0; k < 120; ++k) world.step(*f);
+    for (int k = 0; k < kRepeatSteps; ++k) world.step(*f);
     for (int r = 0; r < kN; ++r) {
       const est::team::TeamRobotEstimate& e = f->estimate(r);
       out.insert(out.end(), {e.mean.x, e.mean.y, e.mean.theta, e.covariance(0, 0), e.covariance(1, 1)});
