@@ -58,6 +58,14 @@ void add_team_node_options(CLI::App& app, TeamNodeConfig& c) {
   app.add_option("--drop-share", c.drop_share, "drop this share of the team messages this node publishes")
       ->capture_default_str()->check(CLI::Range(0.0, 1.0))->group(g);
   app.add_option("--drop-seed", c.seed, "seed of the drops")->capture_default_str()->group(g);
+  app.add_option_function<std::vector<std::uint32_t>>(
+         "--silent-steps",
+         [&c](const std::vector<std::uint32_t>& v) {
+           c.silent_from = v[0];
+           c.silent_to = v[1];
+         },
+         "FROM,TO: publish nothing for these steps (the robot falls silent to the team, then rejoins)")
+      ->delimiter(',')->expected(2)->group(g);
   app.add_flag("--quiet", c.quiet, "no summary on stderr at the end")->group(g);
   add_team_spec_options(app, c.spec);
 }
@@ -130,7 +138,8 @@ struct TeamNode::Impl {
       return;
     }
     ++own_received;
-    if (dropped(cfg.seed, cfg.robot_id, scratch.seq, cfg.drop_share)) {
+    const bool silent = scratch.seq >= cfg.silent_from && scratch.seq <= cfg.silent_to && cfg.silent_to > 0;
+    if (silent || dropped(cfg.seed, cfg.robot_id, scratch.seq, cfg.drop_share)) {
       ++dropped_out;
     } else {
       out.publish_team(scratch);
@@ -194,8 +203,9 @@ void TeamNode::print_summary(std::FILE* f) const {
   const auto& v = m.validator.counts();
   using est::team::TeamReject;
   std::fprintf(f, "estimator_node coop-ekf robot %d of %d: %u own messages (%u refused), %u published, %u dropped by "
-                  "--drop-share, %u came back (multicast loop)\n", m.cfg.robot_id, m.cfg.spec.estimator.robots,
-               m.own_received, m.own_refused, m.published, m.dropped_out, m.echoes);
+                  "--drop-share or --silent-steps, %u came back (multicast loop)\n",
+               m.cfg.robot_id, m.cfg.spec.estimator.robots, m.own_received, m.own_refused, m.published, m.dropped_out,
+               m.echoes);
   std::fprintf(f, "  team messages in: %u in order, %u out of order; refused: %u malformed, %u unknown robot, %u "
                   "duplicate; %u undecodable\n", v[TeamReject::none], v[TeamReject::out_of_order],
                v[TeamReject::malformed], v[TeamReject::unknown_robot], v[TeamReject::duplicate],

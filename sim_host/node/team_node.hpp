@@ -30,6 +30,7 @@ struct TeamNodeConfig {
   double duration_s = 0.0;    // stop after this long (0: no limit)
   double idle_exit_s = 0.0;   // > 0: stop this long after the robot's own messages stopped (the end of a played log)
   double drop_share = 0.0;    // the publisher drops this share of its team messages (a lossy network, reproducibly)
+  std::uint32_t silent_from = 0, silent_to = 0;  // steps [from, to] not published: the robot falls silent, rejoins
   std::uint64_t seed = 1;     // of the drops
   bool quiet = false;
 };

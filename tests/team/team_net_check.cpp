@@ -3,10 +3,11 @@
 //   team_net_check LOCKSTEP.csv TRUTH.csv NODE_DIR ROBOTS exact
 //     every NODE_DIR/node_<a>.csv equals LOCKSTEP.csv line for line (the same estimate bit for bit), and no node
 //     missed, refused or dropped a message
-//   team_net_check LOCKSTEP.csv TRUTH.csv NODE_DIR ROBOTS lossy MAX_RMSE_M MAX_RATIO
+//   team_net_check LOCKSTEP.csv TRUTH.csv NODE_DIR ROBOTS lossy MAX_RMSE_M MAX_RATIO [SILENT FROM TO]
 //     every loss is counted (at node a, the steps closed without robot b's message are b's dropped messages plus the
 //     late ones), and each robot's position RMSE from its own node stays within MAX_RMSE_M and within MAX_RATIO
-//     times the lockstep run's
+//     times the lockstep run's; with robot SILENT silent for steps FROM..TO, every other node flags those steps
+//     (status bit 12, a teammate predicted only) and has the silent robot back within MAX_RMSE_M at the end
 // Prints the figures; exit status 0 when every check holds.
 #include <cmath>
 #include <cstdio>
@@ -109,6 +110,29 @@ int main(int argc, char** argv) {
                 c["missing_" + std::to_string(a)], a, e, e0);
     ok = ok && missing_others == dropped_others + c["late"] && c["missing_" + std::to_string(a)] == 0;
     ok = ok && e <= max_rmse && e <= ratio * e0 && n == n0;
+    if (argc > 10 && std::atoi(argv[8]) != a) {
+      const int silent = std::atoi(argv[8]);
+      const long from = std::atol(argv[9]), to = std::atol(argv[10]);
+      long flagged = 0, in_gap = 0;
+      for (std::size_t i = 1; i < node.size(); ++i) {
+        const std::vector<std::string> f = fields(node[i]);
+        const long seq = std::strtol(f[0].c_str(), nullptr, 10);
+        if (seq < from || seq > to) continue;
+        ++in_gap;
+        flagged += (std::strtoul(f[1].c_str(), nullptr, 16) & 0x1000ul) != 0u ? 1 : 0;
+      }
+      // The silent robot at the end, from this node: it rejoined.
+      const std::vector<std::string> last = fields(node.back());
+      const long last_seq = std::strtol(last[0].c_str(), nullptr, 10);
+      const std::vector<std::string> t = fields(truth[static_cast<std::size_t>(last_seq)]);
+      const std::size_t k = static_cast<std::size_t>(silent);
+      const double dx = std::strtod(last[3 + 2 * k].c_str(), nullptr) - std::strtod(t[1 + 8 * k].c_str(), nullptr);
+      const double dy = std::strtod(last[4 + 2 * k].c_str(), nullptr) - std::strtod(t[2 + 8 * k].c_str(), nullptr);
+      const double back = std::sqrt(dx * dx + dy * dy);
+      std::printf("  robot %d silent for steps %ld-%ld: %ld of %ld flagged here; at the end %.3f m off\n", silent,
+                  from, to, flagged, in_gap, back);
+      ok = ok && in_gap == to - from + 1 && flagged == in_gap && back <= max_rmse;
+    }
   }
   std::printf("%s\n", ok ? "team network check: OK" : "team network check: FAILED");
   return ok ? 0 : 1;

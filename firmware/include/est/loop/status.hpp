@@ -20,7 +20,6 @@ inline constexpr std::uint32_t kLandmarkTimeout = 1u << 9;   // no landmark sigh
 inline constexpr std::uint32_t kTwistTimeout = 1u << 10;     // no twist within its staleness limit
 inline constexpr std::uint32_t kOdometryTimeout = 1u << 11;  // no odometry increment within its staleness limit
 inline constexpr std::uint32_t kTeamRobotMissing = 1u << 12;  // a teammate's step closed without its message
-inline constexpr std::uint32_t kTeamMessageRejected = 1u << 13;  // a team message was refused (late, duplicate, ...)
 inline constexpr std::uint32_t kMask = 0x0000ffffu;
 
 }  // namespace est::loop::status
