@@ -15,3 +15,9 @@ add_dependencies(test_sim_team_diffdrive sim_host)
 est_add_test(sim_team_coop LIBS sim_team)
 target_compile_definitions(test_sim_team_coop PRIVATE SIM_HOST_EXE="$<TARGET_FILE:sim_host>")
 add_dependencies(test_sim_team_coop sim_host)
+# Real data (sim_host/data): each importer and evaluation on a short slice of its dataset, in process; skipped
+# without ../shared/datasets (tests/support/datasets.hpp).
+est_add_test(data_common LIBS sim_data)
+foreach(format mrclam victoria carmen tricycle)
+  est_add_test(data_${format} LIBS sim_data_${format})
+endforeach()

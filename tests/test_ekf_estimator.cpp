@@ -222,6 +222,48 @@ TEST_CASE("without correspondences the loop's EKF associates by maximum likeliho
   CHECK(all_finite(run));
 }
 
+// Takes the place of a loop in drive(): hands every feature on with the next landmark's id, a sensor that names
+// the wrong landmark.
+template <typename Loop>
+struct WrongIds {
+  Loop& loop;
+  void push(const est::loop::WheelTicksInput& t) { loop.push(t); }
+  void push(est::loop::LandmarkInput z) {
+    z.id = (z.id + 1) % kMap.size();
+    loop.push(z);
+  }
+  template <typename C, typename S>
+  void run(C& c, S& s) { loop.run(c, s); }
+  template <typename C, typename S>
+  void flush(C& c, S& s) { loop.flush(c, s); }
+  est::loop::LoopCounters counters() const { return loop.counters(); }
+};
+
+TEST_CASE("with the sensor's ids turned off the loop's EKF associates by maximum likelihood, ignoring wrong ids",
+          "[ekf_estimator]") {
+  auto c = diff_config();
+  c.noise.sigma_signature = 0.1f;
+  for (const bool sensor_ids : {true, false}) {
+    c.sensor_ids = sensor_ids;
+    DiffEstimator ekf(c, kMap);
+    REQUIRE(ekf.initialize_at({3.0f, 1.0f, 0.0f}, 0.05f, 0.02f));
+    DiffLoop loop(ekf, est::loop::LoopTiming{});
+    WrongIds<DiffLoop> wrong{loop};
+    Run run;
+    drive(wrong, ekf, c, 3, 30, true, run);
+    const Errors e = errors(run, 100);
+    INFO("sensor ids " << sensor_ids << ": position RMSE " << e.rmse_pos << " m, accepted "
+                       << ekf.filter().counters().accepted << ", gated out " << ekf.filter().counters().gated_out);
+    if (sensor_ids) {
+      CHECK(ekf.filter().counters().accepted < 100u);  // the wrong landmark is meters away: gated out
+      CHECK(e.rmse_pos > 0.2);
+    } else {
+      CHECK(e.rmse_pos < 0.08);
+      CHECK(ekf.filter().counters().accepted > 300u);
+    }
+  }
+}
+
 TEST_CASE("the loop's EKF tracks a front-wheel bicycle with steering", "[ekf_estimator]") {
   using Estimator = est::loop::EkfEstimator<est::BicycleMotionModel>;
   using Loop = est::loop::FilterLoopStorage<Estimator, 64, 1, 1>;

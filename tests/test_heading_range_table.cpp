@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "datasets.hpp"
 #include "est/map/heading_range_table.hpp"
 #include "est/map/ray_casting.hpp"
 #include "est/random/xoshiro128.hpp"
@@ -122,11 +123,7 @@ TEST_CASE("heading table agrees with the exact caster within its stated error on
 
 TEST_CASE("heading table agrees with the exact caster within its stated error on the Intel map",
           "[heading_range_table][dataset]") {
-  const std::string dir = est::sim::shared_datasets_dir();
-  if (dir.empty()) {
-    WARN("SKIPPED: shared datasets not found ($EST_SHARED_DIR/datasets or ../shared/datasets)");
-    return;
-  }
+  const std::string dir = test_support::dataset_or_skip("carmen-radish-logs") + "/..";
   est::sim::load_trinary_pgm_map(dir + "/carmen-radish-logs/occupancy-maps-gondsm/intel.pgm", g_grid);
   REQUIRE(g_grid.width() == 888);
   REQUIRE(g_edt.build(g_grid.grid()) == est::MapStatus::ok);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 
+#include "datasets.hpp"
 #include "est/map/ray_casting.hpp"
 #include "est/random/xoshiro128.hpp"
 #include "world/office_map.hpp"
@@ -150,12 +151,8 @@ TEST_CASE("accelerated ray casting equals the exact traversal on the synthetic o
 }
 
 TEST_CASE("accelerated ray casting equals the exact traversal on the Intel map", "[ray_casting][dataset]") {
-  const std::string dir = est::sim::shared_datasets_dir();
+  const std::string dir = test_support::dataset_or_skip("carmen-radish-logs") + "/..";
   const std::string path = dir + "/carmen-radish-logs/occupancy-maps-gondsm/intel.pgm";
-  if (dir.empty()) {
-    WARN("SKIPPED: shared datasets not found ($EST_SHARED_DIR/datasets or ../shared/datasets)");
-    return;
-  }
   est::sim::load_trinary_pgm_map(path, g_grid);
   REQUIRE(g_grid.width() == 888);
   const auto t0 = std::chrono::steady_clock::now();

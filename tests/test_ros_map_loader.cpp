@@ -6,6 +6,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "datasets.hpp"
 #include "maps/ros_map_loader.hpp"
 
 namespace {
@@ -118,11 +119,7 @@ TEST_CASE("malformed map files are rejected with their reason", "[map_loader]") 
 }
 
 TEST_CASE("the Intel map loads as a trinary PGM at 0.05 m", "[map_loader][dataset]") {
-  const std::string dir = est::sim::shared_datasets_dir();
-  if (dir.empty()) {
-    WARN("SKIPPED: shared datasets not found ($EST_SHARED_DIR/datasets or ../shared/datasets)");
-    return;
-  }
+  const std::string dir = test_support::dataset_or_skip("carmen-radish-logs") + "/..";
   est::sim::load_trinary_pgm_map(dir + "/carmen-radish-logs/occupancy-maps-gondsm/intel.pgm", g_grid);
   const est::OccupancyGrid g = g_grid.grid();
   REQUIRE(g.width() == 888);

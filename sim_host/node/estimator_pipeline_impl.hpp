@@ -183,11 +183,17 @@ class PipelineImpl final : public EstimatorPipeline {
       e.mcl = s.mcl;
       e.beam_stride = s.beam_stride;
       e.cluster_cell = s.cluster_cell_m;
+      if (s.mcl_landmarks) {
+        e.landmarks = maps.landmarks;
+        e.landmark_noise = s.landmark_noise;
+        e.sensor_ids = s.landmark_ids;
+      }
       return Estimator(e, s.seed, make_scan_model<ScanModel>(s, m), m.free_space);
     } else {
       e.ekf.additive_process_noise(2, 2) = s.ekf_rot_sigma * s.ekf_rot_sigma;
       e.noise = s.landmark_noise;
       e.lost_sigma_m = s.lost_sigma_m;
+      e.sensor_ids = s.landmark_ids;
       return Estimator(e, maps.landmarks);
     }
   }

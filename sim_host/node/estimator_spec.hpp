@@ -90,6 +90,8 @@ struct EstimatorSpec {
   est::LandmarkNoise landmark_noise{0.05f, 0.02f, 0.0f};
   float ekf_rot_sigma = 0.002f;  // heading noise added per prediction (rad): what the motion model leaves out
   float lost_sigma_m = 5.0f;
+  bool landmark_ids = true;    // false: the sensor's landmark ids are ignored (association by maximum likelihood)
+  bool mcl_landmarks = false;  // MCL corrects with landmark sightings on the landmark map, as well as with scans
 
   // The loop and the HAL gate.
   est::loop::LoopTiming timing{};

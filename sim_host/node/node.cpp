@@ -75,7 +75,7 @@ struct LoadedMaps {
 
 std::unique_ptr<LoadedMaps> load_maps(const NodeConfig& c) {
   auto m = std::make_unique<LoadedMaps>();
-  if (c.spec.filter == est::loop::Filter::ekf) {
+  if (c.spec.filter == est::loop::Filter::ekf || c.spec.mcl_landmarks) {
     if (c.landmarks == "office") {
       est::sim::make_office_landmarks(m->landmarks);
       m->view.description = "office landmarks (the simulator's, 16 posts)";
@@ -84,7 +84,7 @@ std::unique_ptr<LoadedMaps> load_maps(const NodeConfig& c) {
       m->view.description = c.landmarks + " (" + std::to_string(m->landmarks.size()) + " landmarks)";
     }
     m->view.landmarks = m->landmarks.view();
-    return m;
+    if (c.spec.filter == est::loop::Filter::ekf) return m;
   }
   if (c.map == "office") {
     est::sim::make_office_map(m->grid);

@@ -244,6 +244,17 @@ void add_options(CLI::App& app, NodeConfig& c) {
                  "landmark sensor: signature noise; > 0 makes signatures part of the association (0: not used)")
       ->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
   app.add_option("--landmark-max-range", e.limits.landmarks.max_range_m, "landmark features beyond this are rejected (m)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
+  app.add_option_function<std::string>(
+         "--landmark-association",
+         [&e](const std::string& v) {
+           if (v != "sensor" && v != "ml") throw CLI::ValidationError("--landmark-association", "sensor or ml");
+           e.landmark_ids = v == "sensor";
+         },
+         "sensor: a feature's id from the sensor where it gives one (table 7.2), else maximum likelihood (table 7.3); "
+         "ml: maximum likelihood for every feature, the sensor's ids ignored")
+      ->default_str("sensor")->group(ekf);
+  app.add_flag("--mcl-landmarks", e.mcl_landmarks,
+               "MCL also corrects with landmark sightings on --landmarks (table 6.4 per particle)")->group(ekf);
   app.add_option("--ekf-rot-sigma", e.ekf_rot_sigma, "heading noise added to every EKF prediction (rad)")->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
   app.add_option("--lost-sigma", e.lost_sigma_m, "EKF: position sigma above which the estimate is flagged degenerate (m)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
 
@@ -368,12 +379,16 @@ std::string command_line(const EstimatorSpec& e, const std::string& map, const s
   o += " --wheel-count " + std::to_string(e.limits.wheels.wheel_count) + " --max-ticks-per-s " +
        std::to_string(e.limits.wheels.max_ticks_per_s) + " --max-steer " + f(e.limits.steering.max_angle_rad) +
        " --max-speed " + f(e.limits.twist.max_speed_mps) + " --max-turn-rate " + f(e.limits.twist.max_turn_rate_rps);
-  if (e.filter == est::loop::Filter::ekf) {
+  if (e.filter == est::loop::Filter::ekf || e.mcl_landmarks) {
     o += " --landmarks " + landmarks + " --landmark-sigma-range " + f(e.landmark_noise.sigma_range) +
          " --landmark-sigma-bearing " + f(e.landmark_noise.sigma_bearing) + " --landmark-sigma-signature " +
-         f(e.landmark_noise.sigma_signature) + " --landmark-max-range " + f(e.limits.landmarks.max_range_m) +
-         " --ekf-rot-sigma " + f(e.ekf_rot_sigma) + " --lost-sigma " + f(e.lost_sigma_m);
+         f(e.landmark_noise.sigma_signature) + " --landmark-max-range " + f(e.limits.landmarks.max_range_m);
+    if (!e.landmark_ids) o += " --landmark-association ml";
+  }
+  if (e.filter == est::loop::Filter::ekf) {
+    o += " --ekf-rot-sigma " + f(e.ekf_rot_sigma) + " --lost-sigma " + f(e.lost_sigma_m);
   } else {
+    if (e.mcl_landmarks) o += " --mcl-landmarks";
     o += " --map " + map + " --sensor-model " + to_string(e.range_model) + " --sensor-mount " + pose(e.sensor_mount) +
          " --range-max " + f(e.field.range_max) + " --z-hit " + f(e.field.z_hit) + " --z-max " + f(e.field.z_max) +
          " --z-rand " + f(e.field.z_rand) + " --sigma-hit " + f(e.field.sigma_hit) + " --max-distance " +

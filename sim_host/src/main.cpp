@@ -3,6 +3,7 @@
 #include <exception>
 #include <iostream>
 
+#include "data/formats.hpp"
 #include "sim/commands.hpp"
 
 int main(int argc, char** argv) {
@@ -12,6 +13,8 @@ int main(int argc, char** argv) {
   sim::add_simulate_command(app);
   sim::add_record_command(app);
   sim::add_learn_beam_model_command(app);
+  sim::data::add_import_command(app);
+  sim::data::add_eval_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -27,6 +27,7 @@ struct EkfEstimatorConfig {
   typename ControlAssembler<Model>::Config control{};
   LandmarkNoise noise{};      // of the landmark sensor (sigma_signature <= 0: signatures not used)
   float lost_sigma_m = 5.0f;  // position standard deviation (the larger axis) above which the belief is degenerate
+  bool sensor_ids = true;     // false: the sensor's ids are ignored, every feature is associated by table 7.3
 };
 
 template <typename Model>
@@ -70,8 +71,9 @@ class EkfEstimator {
   StepOutcome correct(const LandmarkInput& z) {
     if (!initialized_) return StepOutcome::rejected;
     const LandmarkMeasurement f{z.range_m, z.bearing_rad, z.signature};
-    const CorrectionResult r = z.id >= 0 ? ekf_.correct_range_bearing(f, map_, z.id, config_.noise)
-                                         : ekf_.correct_range_bearing_unknown(f, map_, config_.noise).correction;
+    const bool known = z.id >= 0 && config_.sensor_ids;
+    const CorrectionResult r = known ? ekf_.correct_range_bearing(f, map_, z.id, config_.noise)
+                                     : ekf_.correct_range_bearing_unknown(f, map_, config_.noise).correction;
     if (!accepted(r.status)) return StepOutcome::rejected;
     return lost() ? StepOutcome::degenerate : StepOutcome::applied;
   }

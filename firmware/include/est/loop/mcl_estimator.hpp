@@ -6,7 +6,9 @@
 // structures and the free space are owned by the caller and outlive the estimator.
 // Prediction uses the whole-set sampler (est/motion/motion_batch.hpp: the model's distribution, vectorizable, for the
 // models that have one; the others sample particle by particle). A range model that estimates the steering (the
-// handlebar's, est/loop/steered_scan.hpp) hands it to the predictions in place of the steering reading.
+// handlebar's, est/loop/steered_scan.hpp) hands it to the predictions in place of the steering reading. Given a
+// landmark map (MclEstimatorConfig::landmarks), landmark features correct the set too
+// (est/loop/landmark_correction.hpp).
 #include <cstdint>
 #include <type_traits>
 #include <utility>
@@ -15,6 +17,7 @@
 #include "est/filter/free_space_sampler.hpp"
 #include "est/loop/control_assemblers.hpp"
 #include "est/loop/filter_loop.hpp"
+#include "est/loop/landmark_correction.hpp"
 #include "est/loop/likelihood_field_scan.hpp"
 #include "est/motion/motion_batch.hpp"
 #include "est/sensor/range_scan.hpp"
@@ -35,6 +38,11 @@ struct MclEstimatorConfig {
   typename ControlAssembler<Model>::Config control{};
   std::int32_t beam_stride = 1; // use every s-th beam
   float cluster_cell = 1.0f;    // m, the grid of the strongest-cluster estimate
+  // Landmark features correct the set as well as scans when a map is given (it outlives the estimator); without the
+  // sensor's ids each particle takes its most likely landmark.
+  LandmarkMap landmarks{};
+  LandmarkNoise landmark_noise{};
+  bool sensor_ids = true;
 };
 
 template <typename Model, std::uint32_t NMax, std::int32_t KMax, typename ScanModel = LikelihoodFieldScan>
@@ -46,7 +54,10 @@ class MclEstimator {
                const FreeSpaceSampler& free_space)
       : config_(config), mcl_(config.mcl, seed), scan_model_(scan_model), free_space_(free_space) {}
 
-  InputKinds inputs() const { return Assembler::inputs(config_.control) | InputKind::scan; }
+  InputKinds inputs() const {
+    const InputKinds k = Assembler::inputs(config_.control) | InputKind::scan;
+    return config_.landmarks.size() > 0 ? k | InputKind::landmark : k;
+  }
 
   void initialize_at(const Pose2& pose, float sigma_xy, float sigma_theta, std::uint32_t n) {
     mcl_.initialize_gaussian(pose, sigma_xy, sigma_theta, n);
@@ -86,6 +97,19 @@ class MclEstimator {
     if (scan_.prepare(s.layout, s.ranges, config_.beam_stride) != ScanStatus::ok) return StepOutcome::rejected;
     const CorrectionReport r = scan_model_.correct(mcl_, scan_.beams(), context_);
     // The estimate of this step is the corrected set's, taken before resampling injects random particles.
+    estimate_ = mcl_.cluster_estimate(config_.cluster_cell).strongest;
+    estimate_valid_ = true;
+    mcl_.resample(free_space_);
+    return r.degenerate ? StepOutcome::degenerate : StepOutcome::applied;
+  }
+
+  StepOutcome correct(const LandmarkInput& z) {
+    const LandmarkMap& map = config_.landmarks;
+    if (!initialized_ || map.size() == 0) return StepOutcome::rejected;
+    const std::int32_t id = config_.sensor_ids ? z.id : -1;
+    if (id >= map.size()) return StepOutcome::rejected;
+    const LandmarkMeasurement f{z.range_m, z.bearing_rad, z.signature};
+    const CorrectionReport r = correct_with_landmark(mcl_, f, id, map, config_.landmark_noise);
     estimate_ = mcl_.cluster_estimate(config_.cluster_cell).strongest;
     estimate_valid_ = true;
     mcl_.resample(free_space_);

@@ -1,0 +1,82 @@
+#include "data/line_reader.hpp"
+
+#include <zlib.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace sim::data {
+
+LineReader::LineReader(const std::string& path) : file_(gzopen(path.c_str(), "rb")), path_(path), buffer_(1 << 16) {
+  if (file_ == nullptr) throw std::runtime_error(path + ": cannot open");
+}
+
+LineReader::~LineReader() { gzclose(static_cast<gzFile>(file_)); }
+
+bool LineReader::next(std::string& line) {
+  line.clear();
+  gzFile f = static_cast<gzFile>(file_);
+  bool any = false;
+  while (gzgets(f, buffer_.data(), static_cast<int>(buffer_.size())) != nullptr) {
+    any = true;
+    line += buffer_.data();
+    if (!line.empty() && line.back() == '\n') break;  // else a longer line than the buffer, or the last one
+  }
+  if (!any) {
+    int err = Z_OK;
+    const char* msg = gzerror(f, &err);
+    if (err != Z_OK && err != Z_STREAM_END) throw std::runtime_error(path_ + ": read error: " + msg);
+    return false;
+  }
+  while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
+  ++line_;
+  return true;
+}
+
+std::vector<std::string_view> split_fields(std::string_view line) {
+  std::vector<std::string_view> out;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+    std::size_t j = i;
+    while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
+    if (j > i) out.push_back(line.substr(i, j - i));
+    i = j;
+  }
+  return out;
+}
+
+bool blank_or_comment(std::string_view line, char comment) {
+  for (char c : line) {
+    if (c == ' ' || c == '\t' || c == '\r') continue;
+    return c == comment;
+  }
+  return true;
+}
+
+bool parse_double(std::string_view field, double& out) {
+  if (field.empty()) return false;
+  // strtod on a bounded copy: std::from_chars for double is not in every libstdc++ this project builds with.
+  char buf[64];
+  if (field.size() >= sizeof buf) return false;
+  field.copy(buf, field.size());
+  buf[field.size()] = '\0';
+  char* end = nullptr;
+  const double v = std::strtod(buf, &end);
+  if (end != buf + field.size() || !std::isfinite(v)) return false;
+  out = v;
+  return true;
+}
+
+bool parse_int(std::string_view field, std::int64_t& out) {
+  if (field.empty()) return false;
+  const char* b = field.data();
+  const char* e = b + field.size();
+  if (*b == '+') ++b;
+  const auto r = std::from_chars(b, e, out);
+  return r.ec == std::errc() && r.ptr == e;
+}
+
+}  // namespace sim::data

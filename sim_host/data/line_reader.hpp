@@ -1,0 +1,38 @@
+#pragma once
+// Text files of the datasets, line by line with their numbers, gzipped or not (zlib reads both), and strict number
+// fields: a field is a number only when all of it is one and it is finite. Host only.
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace sim::data {
+
+class LineReader {
+ public:
+  explicit LineReader(const std::string& path);  // throws std::runtime_error when the file cannot be opened
+  ~LineReader();
+  LineReader(const LineReader&) = delete;
+  LineReader& operator=(const LineReader&) = delete;
+
+  // The next line without its end (LF or CRLF); false at the end of the file. A read error throws.
+  bool next(std::string& line);
+  std::uint64_t line_number() const { return line_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  void* file_;  // gzFile
+  std::string path_;
+  std::uint64_t line_ = 0;
+  std::vector<char> buffer_;
+};
+
+// Whitespace-separated fields (spaces and tabs).
+std::vector<std::string_view> split_fields(std::string_view line);
+// Whether the line holds only whitespace, or is a comment starting with `comment` after leading whitespace.
+bool blank_or_comment(std::string_view line, char comment = '#');
+
+bool parse_double(std::string_view field, double& out);      // finite numbers only
+bool parse_int(std::string_view field, std::int64_t& out);  // decimal integers only
+
+}  // namespace sim::data

@@ -1,0 +1,402 @@
+// sim_host import mrclam (data/mrclam.hpp).
+#include "data/mrclam.hpp"
+
+#include <CLI/CLI.hpp>
+#include <est_lcm/ground_truth_t.hpp>
+#include <est_lcm/landmark_sighting_t.hpp>
+#include <est_lcm/twist_t.hpp>
+#include <lcm/lcm-cpp.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <regex>
+#include <stdexcept>
+
+#include "data/channels.hpp"
+#include "data/formats.hpp"
+#include "data/eval_report.hpp"
+#include "data/line_reader.hpp"
+#include "node/lcm_log_io.hpp"
+
+namespace sim::data {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kSampledStepS = 0.02;  // sampled-50hz/: row k of ground truth and odometry is at t = 0.02 k
+
+// The numeric rows of one file, each with its line number; malformed lines go to the report.
+struct Rows {
+  std::string path;
+  std::vector<std::vector<double>> values;
+  std::vector<std::uint64_t> lines;
+};
+
+Rows read_rows(const std::string& path, std::size_t fields, ImportReport& report) {
+  Rows r;
+  r.path = path;
+  LineReader in(path);
+  std::string line;
+  while (in.next(line)) {
+    if (blank_or_comment(line)) continue;
+    const auto f = split_fields(line);
+    if (f.size() != fields) {
+      report.bad_line(path, in.line_number(), std::to_string(fields) + " fields expected");
+      continue;
+    }
+    std::vector<double> v(fields);
+    bool ok = true;
+    for (std::size_t i = 0; i < fields && ok; ++i) ok = parse_double(f[i], v[i]);
+    if (!ok) {
+      report.bad_line(path, in.line_number(), "a field is not a finite number");
+      continue;
+    }
+    r.values.push_back(std::move(v));
+    r.lines.push_back(in.line_number());
+  }
+  return r;
+}
+
+bool has_header(const std::string& path) {
+  LineReader in(path);
+  std::string line;
+  return in.next(line) && blank_or_comment(line);
+}
+
+struct Event {
+  std::int64_t t_ns;
+  int order;  // ties: ground truth, then twists, then sightings
+  std::string channel;
+  std::vector<std::uint8_t> data;
+};
+
+template <typename Message>
+Event make_event(std::int64_t t_ns, int order, const std::string& channel, const Message& m) {
+  Event e{t_ns, order, channel, {}};
+  e.data.resize(static_cast<std::size_t>(m.getEncodedSize()));
+  m.encode(e.data.data(), 0, static_cast<int>(e.data.size()));
+  return e;
+}
+
+struct Feature {
+  int id;
+  float range, bearing, signature;
+};
+
+est_lcm::landmark_sighting_t sighting(std::int64_t t_ns, const std::vector<Feature>& fs) {
+  est_lcm::landmark_sighting_t m;
+  m.stamp_ns = t_ns;
+  m.num_features = static_cast<std::int16_t>(fs.size());
+  for (const Feature& f : fs) {
+    m.range_m.push_back(f.range);
+    m.bearing_rad.push_back(f.bearing);
+    m.signature.push_back(f.signature);
+    m.id.push_back(f.id);
+  }
+  return m;
+}
+
+// The free arena around the landmarks (margin m on every side, a wall of one cell around it): MCL's map, whose
+// free space bounds the particles and where recovery draws from.
+std::string write_arena_map(const std::string& stem, const std::vector<MrclamLandmark>& lms, double margin) {
+  double x0 = 1e9, y0 = 1e9, x1 = -1e9, y1 = -1e9;
+  for (const MrclamLandmark& l : lms) {
+    x0 = std::min(x0, l.x), y0 = std::min(y0, l.y), x1 = std::max(x1, l.x), y1 = std::max(y1, l.y);
+  }
+  const double res = 0.05;
+  x0 -= margin, y0 -= margin, x1 += margin, y1 += margin;
+  const int w = static_cast<int>(std::ceil((x1 - x0) / res)) + 2;
+  const int h = static_cast<int>(std::ceil((y1 - y0) / res)) + 2;
+  const std::string pgm = stem + ".arena.pgm";
+  const std::string yaml = stem + ".arena.yaml";
+  std::ofstream p(pgm, std::ios::binary);
+  p << "P5\n" << w << " " << h << "\n255\n";
+  for (int r = 0; r < h; ++r)
+    for (int c = 0; c < w; ++c) p.put(r == 0 || c == 0 || r == h - 1 || c == w - 1 ? char(0) : char(254));
+  std::ofstream y(yaml);
+  y << "image: " << fs::path(pgm).filename().string() << "\nresolution: " << res << "\norigin: [" << x0 - res << ", "
+    << y0 - res << ", 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  if (!p || !y) throw std::runtime_error(stem + ": cannot write the arena map");
+  return yaml;
+}
+
+}  // namespace
+
+MrclamImport import_mrclam(const std::string& dir, const std::string& out_log, const MrclamImportOptions& o,
+                           ImportReport& report) {
+  MrclamImport result;
+  const auto file = [&](const std::string& name) {
+    const std::string p = (fs::path(dir) / name).string();
+    if (!fs::exists(p)) throw std::runtime_error(dir + ": not an MRCLAM dataset folder (" + name + " missing)");
+    return p;
+  };
+  const std::string folder = fs::path(dir).lexically_normal().filename().string().empty()
+                                 ? fs::path(dir).lexically_normal().parent_path().filename().string()
+                                 : fs::path(dir).lexically_normal().filename().string();
+  std::smatch m;
+  if (std::regex_search(folder, m, std::regex("Dataset([1-9])$"))) result.dataset = std::stoi(m[1]);
+  result.sampled = !has_header(file("Robot1_Odometry.dat"));
+
+  // Barcodes: the measurement files name barcodes; subjects 1-5 are the robots, 6-20 the landmarks.
+  std::map<int, int> subject_of_barcode;
+  for (const auto& v : read_rows(file("Barcodes.dat"), 2, report).values)
+    subject_of_barcode[static_cast<int>(v[1])] = static_cast<int>(v[0]);
+  for (const auto& v : read_rows(file("Landmark_Groundtruth.dat"), 5, report).values)
+    result.landmarks.push_back({static_cast<int>(v[0]), v[1], v[2]});
+  if (result.landmarks.empty()) throw std::runtime_error(dir + ": no landmarks in Landmark_Groundtruth.dat");
+  if (result.dataset == 1 && o.fix_landmarks) {
+    auto find = [&](int s) {
+      return std::find_if(result.landmarks.begin(), result.landmarks.end(),
+                          [s](const MrclamLandmark& l) { return l.subject == s; });
+    };
+    const auto a = find(11), b = find(17);
+    if (a != result.landmarks.end() && b != result.landmarks.end()) {
+      std::swap(a->x, b->x);
+      std::swap(a->y, b->y);
+      report.note("MRCLAM Dataset 1: Landmark_Groundtruth.dat has subjects 11 and 17 swapped (the observations put "
+                  "11 near (0.02, -2.83) and 17 near (3.15, 2.38), 6.1 m from the file); swapped back "
+                  "(--keep-landmark-file to import the file as it is)");
+    }
+  }
+  std::map<int, int> landmark_index;
+  for (std::size_t i = 0; i < result.landmarks.size(); ++i) landmark_index[result.landmarks[i].subject] = int(i);
+
+  // Every file of the robots, then the time origin: the earliest time of any of them (raw/), t = 0 (sampled/).
+  struct RobotFiles {
+    int subject;
+    Rows odometry, measurements, truth;
+  };
+  std::vector<RobotFiles> robots;
+  for (int s : o.robots) {
+    if (s < 1 || s > kMrclamRobots) throw std::invalid_argument("MRCLAM robots are subjects 1..5");
+    RobotFiles r{s, read_rows(file("Robot" + std::to_string(s) + "_Odometry.dat"), 3, report),
+                 read_rows(file("Robot" + std::to_string(s) + "_Measurement.dat"), 4, report), {}};
+    const std::string gt = (fs::path(dir) / ("Robot" + std::to_string(s) + "_Groundtruth.dat")).string();
+    if (fs::exists(gt)) r.truth = read_rows(gt, 4, report);
+    robots.push_back(std::move(r));
+  }
+  result.has_ground_truth = std::all_of(robots.begin(), robots.end(), [](const RobotFiles& r) {
+    return !r.truth.values.empty();
+  });
+  if (!result.has_ground_truth)
+    report.note("no robot ground truth in " + dir + " (raw/ of Datasets 1 and 2 lacks it): the log has none");
+  if (!result.sampled) {
+    double t0 = std::numeric_limits<double>::infinity();
+    for (const RobotFiles& r : robots)
+      for (const Rows* rows : {&r.odometry, &r.measurements, &r.truth})
+        if (!rows->values.empty()) t0 = std::min(t0, rows->values.front()[0]);
+    result.t0_unix_s = std::isfinite(t0) ? t0 : 0.0;
+  } else {
+    report.note("sampled-50hz layout: ground truth and odometry timed by their row (t = 0.02 k); measurement times "
+                "as printed (5 significant digits: 0.1 s resolution after t = 1000 s)");
+  }
+  for (int s : o.robots)
+    if (o.scale_v[s] != 1.0 || o.scale_w[s] != 1.0)
+      report.note("robot " + std::to_string(s) + ": the commanded (v, w) scaled by (" + fixed(o.scale_v[s], 3) + ", " +
+                  fixed(o.scale_w[s], 3) + "), an odometry calibration");
+  const auto stamp = [&](double t) { return static_cast<std::int64_t>(std::llround((t - result.t0_unix_s) * 1e9)); };
+  const double t_end = o.max_seconds > 0.0 ? o.max_seconds : std::numeric_limits<double>::infinity();
+
+  std::vector<Event> events;
+  for (const RobotFiles& r : robots) {
+    const int s = r.subject;
+    const std::string ch_twist = robot_channel("EST_TWIST", s), ch_lm = robot_channel("EST_LANDMARKS", s);
+    const std::string ch_rb = robot_channel(kRobotSightingsChannel, s), ch_gt = robot_channel(kGroundTruthChannel, s);
+    for (std::size_t k = 0; k < r.truth.values.size(); ++k) {
+      const auto& v = r.truth.values[k];
+      const double t = result.sampled ? kSampledStepS * static_cast<double>(k) : v[0];
+      if (t - result.t0_unix_s > t_end) break;
+      est_lcm::ground_truth_t g;
+      g.stamp_ns = stamp(t);
+      g.x_m = static_cast<float>(v[1]);
+      g.y_m = static_cast<float>(v[2]);
+      g.theta_rad = static_cast<float>(v[3]);
+      g.v_mps = 0.0f;
+      g.omega_rps = 0.0f;
+      events.push_back(make_event(g.stamp_ns, 0, ch_gt, g));
+    }
+    report.count("ground-truth poses", r.truth.values.size());
+    for (std::size_t k = 0; k < r.odometry.values.size(); ++k) {
+      const auto& v = r.odometry.values[k];
+      const double t = result.sampled ? kSampledStepS * static_cast<double>(k) : v[0];
+      if (t - result.t0_unix_s > t_end) break;
+      est_lcm::twist_t tw;
+      tw.stamp_ns = stamp(t);
+      tw.v1_mps = static_cast<float>(v[1] * o.scale_v[s]);
+      tw.v2_mps = 0.0f;
+      tw.w_rps = static_cast<float>(v[2] * o.scale_w[s]);
+      events.push_back(make_event(tw.stamp_ns, 1, ch_twist, tw));
+      report.count("odometry (v, w)");
+    }
+    // Measurements: the rows of one time become one sighting per kind (landmarks, robots).
+    std::vector<Feature> lms, rbs;
+    std::int64_t group_t = 0;
+    const auto flush = [&] {
+      if (!lms.empty()) events.push_back(make_event(group_t, 2, ch_lm, sighting(group_t, lms)));
+      if (!rbs.empty()) events.push_back(make_event(group_t, 3, ch_rb, sighting(group_t, rbs)));
+      lms.clear();
+      rbs.clear();
+    };
+    for (std::size_t k = 0; k < r.measurements.values.size(); ++k) {
+      const auto& v = r.measurements.values[k];
+      if (v[0] - result.t0_unix_s > t_end) break;
+      const std::int64_t t = stamp(v[0]);
+      if (t != group_t) flush();
+      group_t = t;
+      const auto it = subject_of_barcode.find(static_cast<int>(v[1]));
+      if (it == subject_of_barcode.end() || v[1] != std::floor(v[1])) {
+        report.count("measurements of barcodes not in Barcodes.dat (dropped)");
+        continue;
+      }
+      if (!(v[2] > 0.0)) {
+        report.bad_line(r.measurements.path, r.measurements.lines[k], "range not positive");
+        continue;
+      }
+      const int subject = it->second;
+      const Feature f{0, static_cast<float>(v[2]), static_cast<float>(v[3]), static_cast<float>(subject)};
+      if (subject >= 1 && subject <= kMrclamRobots) {
+        rbs.push_back({subject, f.range, f.bearing, f.signature});
+        report.count("robot sightings");
+      } else if (const auto li = landmark_index.find(subject); li != landmark_index.end()) {
+        lms.push_back({li->second, f.range, f.bearing, f.signature});
+        report.count("landmark sightings");
+      } else {
+        report.count("measurements of subjects with no landmark position (dropped)");
+      }
+    }
+    flush();
+  }
+  std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) {
+    return a.t_ns != b.t_ns ? a.t_ns < b.t_ns : a.order < b.order;
+  });
+  result.duration_s = events.empty() ? 0.0 : static_cast<double>(events.back().t_ns) * 1e-9;
+
+  node::LogWriter log(out_log);
+  for (const Event& e : events) log.write_raw(e.channel, e.t_ns, e.data.data(), static_cast<int>(e.data.size()));
+  if (log.failures() != 0)
+    throw std::runtime_error(out_log + ": " + std::to_string(log.failures()) + " events not written");
+  result.events = log.events();
+
+  const std::string stem = out_log.size() > 7 && out_log.compare(out_log.size() - 7, 7, ".lcmlog") == 0
+                               ? out_log.substr(0, out_log.size() - 7)
+                               : out_log;
+  result.landmarks_csv = stem + ".landmarks.csv";
+  std::ofstream csv(result.landmarks_csv);
+  csv << "# MRCLAM landmarks: x [m], y [m], signature (the subject number); the line order is the map index\n";
+  char buf[96];
+  for (const MrclamLandmark& l : result.landmarks) {
+    std::snprintf(buf, sizeof buf, "%.6f,%.6f,%d\n", l.x, l.y, l.subject);
+    csv << buf;
+  }
+  if (!csv) throw std::runtime_error(result.landmarks_csv + ": cannot write");
+  result.arena_yaml = write_arena_map(stem, result.landmarks, 1.5);
+  return result;
+}
+
+std::vector<MrclamRobotLog> read_mrclam_log(const std::string& path, const std::vector<int>& subjects) {
+  std::vector<MrclamRobotLog> out;
+  std::map<std::string, std::pair<std::size_t, int>> channel;  // channel -> (robot, kind)
+  for (int s : subjects) {
+    out.push_back({s, {}, {}, {}, {}});
+    channel[robot_channel(kGroundTruthChannel, s)] = {out.size() - 1, 0};
+    channel[robot_channel("EST_TWIST", s)] = {out.size() - 1, 1};
+    channel[robot_channel("EST_LANDMARKS", s)] = {out.size() - 1, 2};
+    channel[robot_channel(kRobotSightingsChannel, s)] = {out.size() - 1, 3};
+  }
+  ::lcm::LogFile log(path, "r");
+  if (!log.good()) throw std::runtime_error(path + ": cannot open the log");
+  for (const ::lcm::LogEvent* e = log.readNextEvent(); e != nullptr; e = log.readNextEvent()) {
+    const auto it = channel.find(e->channel);
+    if (it == channel.end()) continue;
+    MrclamRobotLog& r = out[it->second.first];
+    switch (it->second.second) {
+      case 0: {
+        est_lcm::ground_truth_t g;
+        if (g.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad ground_truth_t");
+        r.truth.push_back({g.stamp_ns, g.x_m, g.y_m, g.theta_rad});
+        break;
+      }
+      case 1: {
+        est_lcm::twist_t t;
+        if (t.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad twist_t");
+        r.twists.push_back({t.stamp_ns, t.v1_mps, t.w_rps});
+        break;
+      }
+      default: {
+        est_lcm::landmark_sighting_t m;
+        if (m.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad landmark_sighting_t");
+        auto& list = it->second.second == 2 ? r.landmarks : r.robots;
+        for (std::size_t i = 0; i < static_cast<std::size_t>(m.num_features); ++i)
+          list.push_back({m.stamp_ns, m.id[i], m.range_m[i], m.bearing_rad[i]});
+      }
+    }
+  }
+  return out;
+}
+
+MrclamOdometryScales fit_mrclam_odometry_scales(const std::string& dir) {
+  MrclamOdometryScales out;
+  ImportReport quiet(OnError::skip, nullptr);
+  if (has_header((fs::path(dir) / "Robot1_Odometry.dat").string()))
+    throw std::runtime_error(dir + ": the odometry calibration needs the sampled-50hz layout (rows on one grid)");
+  constexpr std::size_t kWindow = 25;  // 0.5 s: chords are arcs to well under a millimetre at these speeds
+  for (int s = 1; s <= kMrclamRobots; ++s) {
+    const std::string id = std::to_string(s);
+    const Rows gt = read_rows((fs::path(dir) / ("Robot" + id + "_Groundtruth.dat")).string(), 4, quiet);
+    const Rows od = read_rows((fs::path(dir) / ("Robot" + id + "_Odometry.dat")).string(), 3, quiet);
+    double sw = 0.0, sww = 0.0, sv = 0.0, svv = 0.0;
+    for (std::size_t k = 0; k + kWindow < std::min(gt.values.size(), od.values.size()); k += kWindow) {
+      const auto& a = gt.values[k];
+      const auto& b = gt.values[k + kWindow];
+      const double dtheta = std::remainder(b[3] - a[3], 2.0 * M_PI);
+      const double ds = std::hypot(b[1] - a[1], b[2] - a[2]);
+      double cv = 0.0, cw = 0.0;
+      for (std::size_t j = k; j < k + kWindow; ++j) {
+        cv += od.values[j][1] * kSampledStepS;
+        cw += od.values[j][2] * kSampledStepS;
+      }
+      sw += dtheta * cw, sww += cw * cw, sv += ds * std::fabs(cv), svv += cv * cv;
+    }
+    if (sww > 0.0) out.w[s] = sw / sww;
+    if (svv > 0.0) out.v[s] = sv / svv;
+  }
+  return out;
+}
+
+void add_mrclam_import(CLI::App& import) {
+  CLI::App* cmd = import.add_subcommand(
+      "mrclam", "UTIAS MRCLAM (raw/ or sampled-50hz/ layout, any of its nine datasets): every robot's (v, w), its "
+                "landmark and robot sightings with identities, Vicon ground truth on EST_GROUND_TRUTH_<robot>");
+  auto dir = std::make_shared<std::string>();
+  auto out = std::make_shared<std::string>();
+  auto opts = std::make_shared<MrclamImportOptions>();
+  auto on_error = std::make_shared<OnError>(OnError::skip);
+  auto keep = std::make_shared<bool>(false);
+  cmd->add_option("DIR", *dir, "the dataset's folder, e.g. MRCLAM_Dataset1")->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("--out", *out, "the LCM log to write (the landmark file and arena map go beside it)")->required();
+  cmd->add_option("--robots", opts->robots, "subjects to import")->capture_default_str()->delimiter(',');
+  cmd->add_option("--seconds", opts->max_seconds, "only the first seconds (0: all)")->capture_default_str();
+  cmd->add_flag("--keep-landmark-file", *keep, "import Dataset 1's landmark file as it is (subjects 11, 17 swapped)");
+  add_on_error_option(*cmd, *on_error);
+  cmd->callback([=] {
+    opts->fix_landmarks = !*keep;
+    ImportReport report(*on_error);
+    const MrclamImport r = import_mrclam(*dir, *out, *opts, report);
+    report.print_summary(stdout, "import mrclam: " + *dir + " (" + (r.sampled ? "sampled-50hz" : "raw") +
+                                     " layout, dataset " + std::to_string(r.dataset) + ") -> " + *out);
+    std::printf("  %llu events over %.1f s%s; landmarks: %s; arena map: %s\n",
+                static_cast<unsigned long long>(r.events), r.duration_s,
+                r.sampled ? "" : (", t = 0 at Unix time " + fixed(r.t0_unix_s, 3)).c_str(), r.landmarks_csv.c_str(),
+                r.arena_yaml.c_str());
+    std::printf("  replay robot 1: estimator_node --replay %s --model velocity --filter ekf --landmarks %s "
+                "--ch-twist EST_TWIST_1 --ch-landmarks EST_LANDMARKS_1 --initial-pose X,Y,THETA --out est1.lcmlog\n",
+                out->c_str(), r.landmarks_csv.c_str());
+  });
+}
+
+}  // namespace sim::data

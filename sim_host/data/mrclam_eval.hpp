@@ -1,0 +1,70 @@
+#pragma once
+// sim_host eval mrclam: the estimator on UTIAS MRCLAM against its Vicon ground truth, per robot, by method:
+//   dead-reckoning               the (v, w) integrated by the velocity model's mean from the first true pose
+//   ekf-known-landmarks          EKF localization, each robot alone, known correspondence (table 7.2)
+//   ekf-unknown-correspondence   the same with the sensor's ids ignored (maximum likelihood, table 7.3)
+//   mcl-landmarks                augmented MCL on the landmarks, each robot alone (table 6.4 per particle)
+//   cooperative-localization     one EKF over the five robots and the known landmarks, with the robots' sightings of
+//                                each other (cooperative EKF-SLAM with the landmarks as priors)
+//   cooperative-ekf-slam         the same team filter with the landmark positions unknown
+// The single-robot filters run as every other replay does: estimator_node's pipeline in lockstep over the imported
+// log (node::Node). The team filters step the firmware's est::CooperativeEkfSlam (velocity model, 3-dof robots) in
+// lockstep over the same log. Host only.
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "data/eval_report.hpp"
+#include "data/mrclam.hpp"
+
+namespace sim::data {
+
+// The noise every filter here assumes: of the robots' commanded (v, w) (the velocity model's a1..a6), the heading
+// noise per 10 ms prediction the commanded w does not see, and the camera's range and bearing.
+// Measured against Vicon (Dataset 1): range errors about 0.12-0.17 m (one sigma, heavy tails), bearing errors
+// 0.006-0.027 rad; the noise below is wider, for the camera's outliers and the calibrated odometry's residual.
+struct MrclamNoise {
+  float a[6] = {0.5f, 0.05f, 0.3f, 0.5f, 0.01f, 0.01f};
+  float rot_sigma = 0.01f;
+  float sigma_range = 0.2f;
+  float sigma_bearing = 0.03f;
+};
+
+struct MrclamEvalOptions {
+  MrclamNoise noise;
+  // The odometry calibration (mrclam.hpp): fitted on this sampled-50hz folder, never the one evaluated. "auto": the
+  // other of Datasets 1 and 2 beside it; empty: none, the commanded (v, w) as they are.
+  std::string calibration_dir = "auto";
+  std::string out_dir = "eval-mrclam";
+  double max_seconds = 0.0;          // > 0: the first seconds only
+  std::vector<std::string> methods;  // empty: all
+  std::uint32_t particles = 1000;
+  std::uint64_t seed = 1;
+  bool plots = true;
+  bool quiet = false;
+};
+
+struct MrclamRobotResult {
+  int id = 0;
+  TrajectoryError error;
+};
+struct MrclamMethodResult {
+  std::string name;
+  std::vector<MrclamRobotResult> robots;
+  double run_time_s = 0.0;
+  std::string detail;  // e.g. the landmarks the SLAM filter mapped and their error
+};
+struct MrclamEval {
+  MrclamImport import;
+  std::string calibration_dir;  // where the odometry scales were fitted (empty: none)
+  MrclamOdometryScales scales;
+  std::vector<MrclamMethodResult> methods;
+  std::string log_path;
+};
+
+const std::vector<std::string>& mrclam_methods();
+MrclamEval eval_mrclam(const std::string& dir, const MrclamEvalOptions& options);
+nlohmann::json to_json(const MrclamEval& e);
+
+}  // namespace sim::data

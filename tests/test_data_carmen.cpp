@@ -1,0 +1,2 @@
+// PLACEHOLDER until the carmen tests land (this session).
+#include <catch2/catch.hpp>
