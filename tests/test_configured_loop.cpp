@@ -56,8 +56,9 @@ static_assert(std::is_same_v<Ekf::EstimatorConfig, est::loop::EkfEstimatorConfig
 static_assert(std::is_same_v<Mcl::EstimatorConfig, est::loop::MclEstimatorConfig<est::BicycleMotionModel>>);
 static_assert(Mcl::kTiming.staleness[est::loop::InputKind::landmark] == 1000 * kMs);
 static_assert(Ekf::kTiming.staleness[est::loop::InputKind::landmark] == 400 * kMs);
+// MCL corrects with scans, and with landmark features when its configuration has a landmark map.
 static_assert(est::loop::CorrectsWith<Mcl::Estimator, est::loop::ScanInput>::value &&
-              !est::loop::CorrectsWith<Mcl::Estimator, est::loop::LandmarkInput>::value);
+              est::loop::CorrectsWith<Mcl::Estimator, est::loop::LandmarkInput>::value);
 static_assert(!est::loop::CorrectsWith<Ekf::Estimator, est::loop::ScanInput>::value &&
               est::loop::CorrectsWith<Ekf::Estimator, est::loop::LandmarkInput>::value);
 

@@ -24,6 +24,7 @@ const auto uniform_box = [](est::Rng& rng, est::Pose2& p) {
 // Corrections with every landmark's feature from `truth`, each followed by resampling; the weighted mean after.
 est::Pose2 localize(bool known_ids, std::uint64_t seed) {
   est::MclConfig cfg;
+  cfg.recovery = false;  // the correction alone: no random particles from the box
   auto owned = std::make_unique<est::AugmentedMcl<2000>>(cfg, seed);  // too large for the stack
   est::AugmentedMcl<2000>& mcl = *owned;
   mcl.initialize_gaussian({4.2f, 2.8f, 0.25f}, 0.5f, 0.2f, 2000);

@@ -2,6 +2,9 @@
 
 #include <unistd.h>
 
+#include <est_lcm/pose_estimate_t.hpp>
+#include <lcm/lcm-cpp.hpp>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -69,6 +72,19 @@ std::vector<ErrorSample> error_series(const Trajectory& est, const Trajectory& r
     if (!interpolate(ref, p.t_ns, max_gap_ns, r)) continue;
     out.push_back({static_cast<double>(p.t_ns - t0_ns) * 1e-9, std::hypot(p.x - r.x, p.y - r.y),
                    std::fabs(wrap(p.theta - r.theta))});
+  }
+  return out;
+}
+
+Trajectory read_pose_estimates(const std::string& path) {
+  Trajectory out;
+  ::lcm::LogFile log(path, "r");
+  if (!log.good()) throw std::runtime_error(path + ": cannot open");
+  for (const ::lcm::LogEvent* e = log.readNextEvent(); e != nullptr; e = log.readNextEvent()) {
+    if (e->channel != "EST_POSE") continue;
+    est_lcm::pose_estimate_t p;
+    if (p.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad pose_estimate_t");
+    out.push_back({p.stamp_ns, p.x_m, p.y_m, p.theta_rad});
   }
   return out;
 }

@@ -29,6 +29,10 @@ struct TrajectoryError {
 // The estimate against the reference at the estimate's times, from `from_ns` on.
 TrajectoryError trajectory_error(const Trajectory& estimate, const Trajectory& reference, std::int64_t max_gap_ns,
                                  std::int64_t from_ns = INT64_MIN);
+// The estimates estimator_node wrote to an LCM log (EST_POSE, pose_estimate_t), in the log's order; throws
+// std::runtime_error for a log that cannot be read.
+Trajectory read_pose_estimates(const std::string& log_path);
+
 // Per-time errors for the plots: t (s from t0), position error (m), heading error (rad).
 struct ErrorSample {
   double t_s = 0.0, xy_m = 0.0, theta_rad = 0.0;

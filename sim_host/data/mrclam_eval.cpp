@@ -2,8 +2,6 @@
 #include "data/mrclam_eval.hpp"
 
 #include <CLI/CLI.hpp>
-#include <est_lcm/pose_estimate_t.hpp>
-#include <lcm/lcm-cpp.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -38,19 +36,6 @@ est::LandmarkNoise camera_noise(const MrclamNoise& n) { return {n.sigma_range, n
 TimedPose first_truth(const MrclamRobotLog& r) {
   if (r.truth.empty()) throw std::runtime_error("robot " + std::to_string(r.subject) + ": no ground truth");
   return r.truth.front();
-}
-
-Trajectory read_estimates(const std::string& path) {
-  Trajectory out;
-  ::lcm::LogFile log(path, "r");
-  if (!log.good()) throw std::runtime_error(path + ": cannot open");
-  for (const ::lcm::LogEvent* e = log.readNextEvent(); e != nullptr; e = log.readNextEvent()) {
-    if (e->channel != "EST_POSE") continue;
-    est_lcm::pose_estimate_t p;
-    if (p.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad pose_estimate_t");
-    out.push_back({p.stamp_ns, p.x_m, p.y_m, p.theta_rad});
-  }
-  return out;
 }
 
 // The velocity model's mean (the arc of table 5.3 without noise), integrated over each held (v, w).
@@ -111,7 +96,7 @@ Trajectory run_node(const MrclamEval& ev, const MrclamRobotLog& r, const std::st
   node::Node n(c);
   if (n.run() != 0) throw std::runtime_error(method + ": estimator_node's replay failed for robot " +
                                              std::to_string(r.subject));
-  return read_estimates(c.out_path);
+  return read_pose_estimates(c.out_path);
 }
 
 // The team: one EKF over every robot's pose (and the landmarks), stepped every 20 ms: each robot's (v, w) held over

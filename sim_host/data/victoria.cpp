@@ -1,10 +1,288 @@
-// PLACEHOLDER until the victoria importer lands (this session).
-#include <CLI/CLI.hpp>
+// sim_host import victoria (data/victoria.hpp).
+#include "data/victoria.hpp"
 
+#include <CLI/CLI.hpp>
+#include <est_lcm/encoder_ticks_t.hpp>
+#include <est_lcm/ground_truth_t.hpp>
+#include <est_lcm/landmark_sighting_t.hpp>
+#include <est_lcm/steering_t.hpp>
+#include <lcm/lcm-cpp.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+
+#include "data/channels.hpp"
 #include "data/formats.hpp"
+#include "data/line_reader.hpp"
+#include "hal/lcm/channels.hpp"
+#include "node/lcm_log_io.hpp"
 
 namespace sim::data {
+namespace {
 
-void add_victoria_import(CLI::App&) {}
+namespace fs = std::filesystem;
+
+constexpr double kMaxSteer = 1.2;  // rad: beyond any car's stop (the data stays within 0.6)
+
+const hal::lcm::Channels& channels() {
+  static const hal::lcm::Channels c;
+  return c;
+}
+
+struct Rows {
+  std::string path;
+  std::vector<std::vector<double>> values;
+  std::vector<std::uint64_t> lines;
+};
+
+// The numeric rows of one file with their line numbers, times never going back; malformed lines to the report.
+Rows read_rows(const std::string& path, std::size_t fields, ImportReport& report) {
+  Rows r;
+  r.path = path;
+  LineReader in(path);
+  std::string line;
+  double last_t = -std::numeric_limits<double>::infinity();
+  while (in.next(line)) {
+    if (blank_or_comment(line, '%')) continue;
+    const auto f = split_fields(line);
+    if (f.size() != fields) {
+      report.bad_line(path, in.line_number(), std::to_string(fields) + " fields expected");
+      continue;
+    }
+    std::vector<double> v(fields);
+    bool ok = true;
+    for (std::size_t i = 0; i < fields && ok; ++i) ok = parse_double(f[i], v[i]);
+    if (!ok) {
+      report.bad_line(path, in.line_number(), "a field is not a finite number");
+      continue;
+    }
+    if (v[0] < last_t) {
+      report.bad_line(path, in.line_number(), "time before the previous row's");
+      continue;
+    }
+    last_t = v[0];
+    r.values.push_back(std::move(v));
+    r.lines.push_back(in.line_number());
+  }
+  return r;
+}
+
+struct Event {
+  std::int64_t t_ns;
+  int order;  // ties: ticks, steering, GPS, trees
+  std::string channel;
+  std::vector<std::uint8_t> data;
+};
+
+template <typename Message>
+Event make_event(std::int64_t t_ns, int order, const std::string& channel, const Message& m) {
+  Event e{t_ns, order, channel, {}};
+  e.data.resize(static_cast<std::size_t>(m.getEncodedSize()));
+  m.encode(e.data.data(), 0, static_cast<int>(e.data.size()));
+  return e;
+}
+
+std::int64_t stamp(double t) { return static_cast<std::int64_t>(std::llround(t * 1e9)); }
+
+std::string find_folder(const std::string& dir) {
+  for (const fs::path& d : {fs::path(dir), fs::path(dir) / "acfr-text-rfsslam"})
+    if (fs::exists(d / "inputs.dat") && fs::exists(d / "measurements.dat") && fs::exists(d / "gps.dat"))
+      return d.string();
+  throw std::runtime_error(dir + ": not a Victoria Park folder (inputs.dat, measurements.dat, gps.dat missing, "
+                           "here and in acfr-text-rfsslam/)");
+}
+
+}  // namespace
+
+double victoria_front_speed(double v_e, double steer, const VictoriaGeometry& g) {
+  return v_e / ((1.0 - std::tan(steer) * g.encoder_offset / g.wheelbase) * std::cos(steer));
+}
+
+VictoriaImport import_victoria(const std::string& dir, const std::string& out_log, const VictoriaImportOptions& o,
+                               ImportReport& report) {
+  VictoriaImport result;
+  result.folder = find_folder(dir);
+  const VictoriaGeometry& g = o.geometry;
+  if (!(o.metres_per_tick > 0.0)) throw std::invalid_argument("metres per tick must be positive");
+  const Rows inputs = read_rows((fs::path(result.folder) / "inputs.dat").string(), 3, report);
+  const Rows trees = read_rows((fs::path(result.folder) / "measurements.dat").string(), 4, report);
+  const Rows gps = read_rows((fs::path(result.folder) / "gps.dat").string(), 3, report);
+  const double t_end = o.max_seconds > 0.0 ? o.max_seconds : std::numeric_limits<double>::infinity();
+  std::vector<Event> events;
+
+  // Speed and steering: the front axle's travel integrated over each row's interval (the row's speed held until the
+  // next), as a counter; the ticks at a row's time come before its steering, so that the interval that ends there
+  // is paired with the steering that held over it.
+  double travel_m = 0.0;
+  std::int64_t count = 0;
+  std::uint64_t long_gaps = 0;
+  for (std::size_t k = 0; k < inputs.values.size(); ++k) {
+    const auto& v = inputs.values[k];
+    if (v[0] > t_end) break;
+    if (std::fabs(v[2]) > kMaxSteer) {
+      report.bad_line(inputs.path, inputs.lines[k], "steering beyond 1.2 rad");
+      continue;
+    }
+    est_lcm::encoder_ticks_t ticks;
+    ticks.num_wheels = 1;
+    ticks.stamp_ns = stamp(v[0]);
+    ticks.counter_bits = 32;
+    ticks.count.push_back(static_cast<std::int32_t>(static_cast<std::uint32_t>(count)));
+    events.push_back(make_event(ticks.stamp_ns, 0, channels().wheel_ticks, ticks));
+    est_lcm::steering_t steer;
+    steer.stamp_ns = ticks.stamp_ns;
+    steer.angle_rad = static_cast<float>(v[2]);
+    events.push_back(make_event(steer.stamp_ns, 1, channels().steering, steer));
+    report.count("speed and steering samples");
+    ++result.inputs;
+    if (k + 1 < inputs.values.size()) {
+      const double dt = inputs.values[k + 1][0] - v[0];
+      if (dt > 0.5) ++long_gaps;
+      travel_m += victoria_front_speed(v[1], v[2], g) * dt;
+      count = static_cast<std::int64_t>(std::llround(travel_m / o.metres_per_tick));
+    }
+  }
+  if (long_gaps > 0)
+    report.note(std::to_string(long_gaps) + " gaps of more than 0.5 s between speed samples: the speed before each "
+                "is held over it");
+  report.note("speed: the rear left wheel's encoder as the front axle middle's speed, v_e / ((1 - tan(steer) H / L) "
+              "cos(steer)), L = " + fixed(g.wheelbase, 2) + " m, H = " + fixed(g.encoder_offset, 2) + " m; trees: "
+              "from the laser (a = " + fixed(g.laser_ahead, 2) + " m ahead of the front axle, b = " +
+              fixed(g.laser_left, 2) + " m left) to the front axle's middle");
+
+  // Trees: the rows of one scan time become one sighting.
+  std::vector<float> range, bearing, diameter;
+  std::int64_t scan_t = std::numeric_limits<std::int64_t>::min();
+  const auto flush = [&] {
+    if (range.empty()) return;
+    est_lcm::landmark_sighting_t m;
+    m.stamp_ns = scan_t;
+    m.num_features = static_cast<std::int16_t>(range.size());
+    m.range_m = range;
+    m.bearing_rad = bearing;
+    m.signature = diameter;
+    m.id.assign(range.size(), -1);
+    events.push_back(make_event(scan_t, 3, channels().landmarks, m));
+    ++result.scans;
+    range.clear(), bearing.clear(), diameter.clear();
+  };
+  for (std::size_t k = 0; k < trees.values.size(); ++k) {
+    const auto& v = trees.values[k];
+    if (v[0] > t_end) break;
+    if (!(v[1] > 0.0) || v[1] > 100.0) {
+      report.bad_line(trees.path, trees.lines[k], "range outside (0, 100] m");
+      continue;
+    }
+    if (v[2] < -1e-6 || v[2] > M_PI + 1e-6) {
+      report.bad_line(trees.path, trees.lines[k], "beam angle outside [0, pi]");
+      continue;
+    }
+    if (!(v[3] >= 0.0)) {
+      report.bad_line(trees.path, trees.lines[k], "negative diameter");
+      continue;
+    }
+    const std::int64_t t = stamp(v[0]);
+    if (t != scan_t) flush();
+    scan_t = t;
+    const double phi = v[2] - M_PI / 2.0;  // in the laser's frame, counter-clockwise from ahead
+    const double x = g.laser_ahead + v[1] * std::cos(phi), y = g.laser_left + v[1] * std::sin(phi);
+    range.push_back(static_cast<float>(std::hypot(x, y)));
+    bearing.push_back(static_cast<float>(std::atan2(y, x)));
+    diameter.push_back(static_cast<float>(v[3]));
+    report.count("tree detections");
+    ++result.detections;
+  }
+  flush();
+  report.count("laser scans with trees", result.scans);
+
+  for (std::size_t k = 0; k < gps.values.size(); ++k) {
+    const auto& v = gps.values[k];
+    if (v[0] > t_end) break;
+    est_lcm::ground_truth_t fix;
+    fix.stamp_ns = stamp(v[0]);
+    fix.x_m = static_cast<float>(v[1]);
+    fix.y_m = static_cast<float>(v[2]);
+    fix.theta_rad = std::numeric_limits<float>::quiet_NaN();
+    fix.v_mps = 0.0f;
+    fix.omega_rps = 0.0f;
+    events.push_back(make_event(fix.stamp_ns, 2, kGpsChannel, fix));
+    report.count("GPS fixes");
+    ++result.gps;
+  }
+
+  std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) {
+    return a.t_ns != b.t_ns ? a.t_ns < b.t_ns : a.order < b.order;
+  });
+  result.duration_s = events.empty() ? 0.0 : static_cast<double>(events.back().t_ns) * 1e-9;
+  node::LogWriter log(out_log);
+  for (const Event& e : events) log.write_raw(e.channel, e.t_ns, e.data.data(), static_cast<int>(e.data.size()));
+  if (log.failures() != 0)
+    throw std::runtime_error(out_log + ": " + std::to_string(log.failures()) + " events not written");
+  result.events = log.events();
+  return result;
+}
+
+VictoriaLog read_victoria_log(const std::string& path) {
+  VictoriaLog out;
+  ::lcm::LogFile log(path, "r");
+  if (!log.good()) throw std::runtime_error(path + ": cannot open the log");
+  for (const ::lcm::LogEvent* e = log.readNextEvent(); e != nullptr; e = log.readNextEvent()) {
+    if (e->channel == channels().wheel_ticks) {
+      est_lcm::encoder_ticks_t m;
+      if (m.decode(e->data, 0, e->datalen) < 0 || m.num_wheels < 1) throw std::runtime_error(path + ": bad ticks");
+      out.ticks.push_back({m.stamp_ns, static_cast<std::uint32_t>(m.count[0])});
+    } else if (e->channel == channels().steering) {
+      est_lcm::steering_t m;
+      if (m.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad steering_t");
+      out.steering.push_back({m.stamp_ns, m.angle_rad});
+    } else if (e->channel == channels().landmarks) {
+      est_lcm::landmark_sighting_t m;
+      if (m.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad landmark_sighting_t");
+      VictoriaScan s;
+      s.t_ns = m.stamp_ns;
+      for (std::size_t i = 0; i < static_cast<std::size_t>(m.num_features); ++i)
+        s.trees.push_back({m.range_m[i], m.bearing_rad[i], m.signature[i]});
+      out.scans.push_back(std::move(s));
+    } else if (e->channel == kGpsChannel) {
+      est_lcm::ground_truth_t g;
+      if (g.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad ground_truth_t");
+      out.gps.push_back({g.stamp_ns, g.x_m, g.y_m, 0.0});
+    }
+  }
+  return out;
+}
+
+void add_victoria_import(CLI::App& import) {
+  CLI::App* cmd = import.add_subcommand(
+      "victoria", "Victoria Park (ACFR): the car as the bicycle at its front axle: the front axle's travel on "
+                  "EST_WHEEL_TICKS (from the rear left wheel's encoder), the steering on EST_STEERING, the tree "
+                  "detections (range, bearing from the front axle, diameter as signature, id -1) on EST_LANDMARKS, "
+                  "GPS on EST_GPS");
+  auto dir = std::make_shared<std::string>();
+  auto out = std::make_shared<std::string>();
+  auto opts = std::make_shared<VictoriaImportOptions>();
+  auto on_error = std::make_shared<OnError>(OnError::skip);
+  cmd->add_option("DIR", *dir, "the dataset's folder (victoria-park/ or its acfr-text-rfsslam/)")
+      ->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("--out", *out, "the LCM log to write")->required();
+  cmd->add_option("--seconds", opts->max_seconds, "only the first seconds (0: all)")->capture_default_str();
+  cmd->add_option("--metres-per-tick", opts->metres_per_tick, "the travel counter's resolution (m)")
+      ->capture_default_str();
+  add_on_error_option(*cmd, *on_error);
+  cmd->callback([=] {
+    ImportReport report(*on_error);
+    const VictoriaImport r = import_victoria(*dir, *out, *opts, report);
+    report.print_summary(stdout, "import victoria: " + r.folder + " -> " + *out);
+    std::printf("  %llu events over %.1f s\n", static_cast<unsigned long long>(r.events), r.duration_s);
+    std::printf("  replay: estimator_node --replay %s --model bicycle --frame-length %.2f --metres-per-tick %g "
+                "(the pose is the front axle's middle)\n", out->c_str(), opts->geometry.wheelbase,
+                opts->metres_per_tick);
+  });
+}
 
 }  // namespace sim::data
