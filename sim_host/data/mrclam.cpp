@@ -216,6 +216,7 @@ MrclamImport import_mrclam(const std::string& dir, const std::string& out_log, c
       g.x_m = static_cast<float>(v[1]);
       g.y_m = static_cast<float>(v[2]);
       g.theta_rad = static_cast<float>(v[3]);
+      if (k == 0) std::copy(v.begin() + 1, v.begin() + 4, result.start[s]);
       g.v_mps = 0.0f;
       g.omega_rps = 0.0f;
       events.push_back(make_event(g.stamp_ns, 0, ch_gt, g));
@@ -393,9 +394,13 @@ void add_mrclam_import(CLI::App& import) {
                 static_cast<unsigned long long>(r.events), r.duration_s,
                 r.sampled ? "" : (", t = 0 at Unix time " + fixed(r.t0_unix_s, 3)).c_str(), r.landmarks_csv.c_str(),
                 r.arena_yaml.c_str());
-    std::printf("  replay robot 1: estimator_node --replay %s --model velocity --filter ekf --landmarks %s "
-                "--ch-twist EST_TWIST_1 --ch-landmarks EST_LANDMARKS_1 --initial-pose X,Y,THETA --out est1.lcmlog\n",
-                out->c_str(), r.landmarks_csv.c_str());
+    const int s = opts->robots.front();
+    const std::string pose = r.has_ground_truth ? fixed(r.start[s][0], 4) + "," + fixed(r.start[s][1], 4) + "," +
+                                                      fixed(r.start[s][2], 4)
+                                                : std::string("X,Y,THETA");
+    std::printf("  replay robot %d: estimator_node --replay %s --model velocity --filter ekf --landmarks %s "
+                "--ch-twist EST_TWIST_%d --ch-landmarks EST_LANDMARKS_%d --initial-pose %s --out est%d.lcmlog\n",
+                s, out->c_str(), r.landmarks_csv.c_str(), s, s, pose.c_str(), s);
   });
 }
 

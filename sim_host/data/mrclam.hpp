@@ -56,6 +56,7 @@ struct MrclamImport {
   std::string landmarks_csv;
   std::string arena_yaml;
   bool has_ground_truth = false;
+  double start[kMrclamRobots + 1][3] = {};  // each robot's first true pose (x, y, theta), with ground truth
   std::uint64_t events = 0;    // written to the log
 };
 
