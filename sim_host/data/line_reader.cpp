@@ -1,10 +1,13 @@
 #include "data/line_reader.hpp"
 
+#include "data/import_report.hpp"
+
 #include <zlib.h>
 
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 
 namespace sim::data {
@@ -33,6 +36,38 @@ bool LineReader::next(std::string& line) {
   while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
   ++line_;
   return true;
+}
+
+NumericRows read_numeric_rows(const std::string& path, std::size_t fields, ImportReport& report, char comment,
+                              bool monotonic_time) {
+  NumericRows r;
+  r.path = path;
+  LineReader in(path);
+  std::string line;
+  double last_t = -std::numeric_limits<double>::infinity();
+  while (in.next(line)) {
+    if (blank_or_comment(line, comment)) continue;
+    const auto f = split_fields(line);
+    if (f.size() != fields) {
+      report.bad_line(path, in.line_number(), std::to_string(fields) + " fields expected");
+      continue;
+    }
+    std::vector<double> v(fields);
+    bool ok = true;
+    for (std::size_t i = 0; i < fields && ok; ++i) ok = parse_double(f[i], v[i]);
+    if (!ok) {
+      report.bad_line(path, in.line_number(), "a field is not a finite number");
+      continue;
+    }
+    if (monotonic_time && v[0] < last_t) {
+      report.bad_line(path, in.line_number(), "time before the previous row's");
+      continue;
+    }
+    last_t = v[0];
+    r.values.push_back(std::move(v));
+    r.lines.push_back(in.line_number());
+  }
+  return r;
 }
 
 std::vector<std::string_view> split_fields(std::string_view line) {

@@ -32,6 +32,18 @@ std::vector<std::string_view> split_fields(std::string_view line);
 // Whether the line holds only whitespace, or is a comment starting with `comment` after leading whitespace.
 bool blank_or_comment(std::string_view line, char comment = '#');
 
+// The numeric rows of a text file of `fields` columns, each with its line number: blank and comment lines passed
+// over; a line of another field count, or with a field that is not a finite number, or (with monotonic_time) whose
+// first field is before the previous row's, goes to the report (skipped and counted, or refused).
+struct NumericRows {
+  std::string path;
+  std::vector<std::vector<double>> values;
+  std::vector<std::uint64_t> lines;
+};
+class ImportReport;
+NumericRows read_numeric_rows(const std::string& path, std::size_t fields, ImportReport& report, char comment = '#',
+                              bool monotonic_time = false);
+
 bool parse_double(std::string_view field, double& out);      // finite numbers only
 bool parse_int(std::string_view field, std::int64_t& out);  // decimal integers only
 

@@ -30,36 +30,10 @@ namespace fs = std::filesystem;
 
 constexpr double kSampledStepS = 0.02;  // sampled-50hz/: row k of ground truth and odometry is at t = 0.02 k
 
-// The numeric rows of one file, each with its line number; malformed lines go to the report.
-struct Rows {
-  std::string path;
-  std::vector<std::vector<double>> values;
-  std::vector<std::uint64_t> lines;
-};
+using Rows = NumericRows;
 
 Rows read_rows(const std::string& path, std::size_t fields, ImportReport& report) {
-  Rows r;
-  r.path = path;
-  LineReader in(path);
-  std::string line;
-  while (in.next(line)) {
-    if (blank_or_comment(line)) continue;
-    const auto f = split_fields(line);
-    if (f.size() != fields) {
-      report.bad_line(path, in.line_number(), std::to_string(fields) + " fields expected");
-      continue;
-    }
-    std::vector<double> v(fields);
-    bool ok = true;
-    for (std::size_t i = 0; i < fields && ok; ++i) ok = parse_double(f[i], v[i]);
-    if (!ok) {
-      report.bad_line(path, in.line_number(), "a field is not a finite number");
-      continue;
-    }
-    r.values.push_back(std::move(v));
-    r.lines.push_back(in.line_number());
-  }
-  return r;
+  return read_numeric_rows(path, fields, report);
 }
 
 bool has_header(const std::string& path) {

@@ -34,42 +34,11 @@ const hal::lcm::Channels& channels() {
   return c;
 }
 
-struct Rows {
-  std::string path;
-  std::vector<std::vector<double>> values;
-  std::vector<std::uint64_t> lines;
-};
+using Rows = NumericRows;
 
 // The numeric rows of one file with their line numbers, times never going back; malformed lines to the report.
 Rows read_rows(const std::string& path, std::size_t fields, ImportReport& report) {
-  Rows r;
-  r.path = path;
-  LineReader in(path);
-  std::string line;
-  double last_t = -std::numeric_limits<double>::infinity();
-  while (in.next(line)) {
-    if (blank_or_comment(line, '%')) continue;
-    const auto f = split_fields(line);
-    if (f.size() != fields) {
-      report.bad_line(path, in.line_number(), std::to_string(fields) + " fields expected");
-      continue;
-    }
-    std::vector<double> v(fields);
-    bool ok = true;
-    for (std::size_t i = 0; i < fields && ok; ++i) ok = parse_double(f[i], v[i]);
-    if (!ok) {
-      report.bad_line(path, in.line_number(), "a field is not a finite number");
-      continue;
-    }
-    if (v[0] < last_t) {
-      report.bad_line(path, in.line_number(), "time before the previous row's");
-      continue;
-    }
-    last_t = v[0];
-    r.values.push_back(std::move(v));
-    r.lines.push_back(in.line_number());
-  }
-  return r;
+  return read_numeric_rows(path, fields, report, '%', true);
 }
 
 struct Event {
