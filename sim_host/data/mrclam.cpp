@@ -18,10 +18,10 @@
 #include <stdexcept>
 
 #include "data/channels.hpp"
+#include "data/event_buffer.hpp"
 #include "data/formats.hpp"
 #include "data/eval_report.hpp"
 #include "data/line_reader.hpp"
-#include "node/lcm_log_io.hpp"
 
 namespace sim::data {
 namespace {
@@ -40,21 +40,6 @@ bool has_header(const std::string& path) {
   LineReader in(path);
   std::string line;
   return in.next(line) && blank_or_comment(line);
-}
-
-struct Event {
-  std::int64_t t_ns;
-  int order;  // ties: ground truth, then twists, then sightings
-  std::string channel;
-  std::vector<std::uint8_t> data;
-};
-
-template <typename Message>
-Event make_event(std::int64_t t_ns, int order, const std::string& channel, const Message& m) {
-  Event e{t_ns, order, channel, {}};
-  e.data.resize(static_cast<std::size_t>(m.getEncodedSize()));
-  m.encode(e.data.data(), 0, static_cast<int>(e.data.size()));
-  return e;
 }
 
 struct Feature {
@@ -176,7 +161,7 @@ MrclamImport import_mrclam(const std::string& dir, const std::string& out_log, c
   const auto stamp = [&](double t) { return static_cast<std::int64_t>(std::llround((t - result.t0_unix_s) * 1e9)); };
   const double t_end = o.max_seconds > 0.0 ? o.max_seconds : std::numeric_limits<double>::infinity();
 
-  std::vector<Event> events;
+  EventBuffer events;  // order at equal stamps: ground truth 0, twists 1, landmark 2 and robot 3 sightings
   for (const RobotFiles& r : robots) {
     const int s = r.subject;
     const std::string ch_twist = robot_channel("EST_TWIST", s), ch_lm = robot_channel("EST_LANDMARKS", s);
@@ -193,7 +178,7 @@ MrclamImport import_mrclam(const std::string& dir, const std::string& out_log, c
       if (k == 0) std::copy(v.begin() + 1, v.begin() + 4, result.start[s]);
       g.v_mps = 0.0f;
       g.omega_rps = 0.0f;
-      events.push_back(make_event(g.stamp_ns, 0, ch_gt, g));
+      events.add(g.stamp_ns, 0, ch_gt, g);
     }
     report.count("ground-truth poses", r.truth.values.size());
     for (std::size_t k = 0; k < r.odometry.values.size(); ++k) {
@@ -205,15 +190,15 @@ MrclamImport import_mrclam(const std::string& dir, const std::string& out_log, c
       tw.v1_mps = static_cast<float>(v[1] * o.scale_v[s]);
       tw.v2_mps = 0.0f;
       tw.w_rps = static_cast<float>(v[2] * o.scale_w[s]);
-      events.push_back(make_event(tw.stamp_ns, 1, ch_twist, tw));
+      events.add(tw.stamp_ns, 1, ch_twist, tw);
       report.count("odometry (v, w)");
     }
     // Measurements: the rows of one time become one sighting per kind (landmarks, robots).
     std::vector<Feature> lms, rbs;
     std::int64_t group_t = 0;
     const auto flush = [&] {
-      if (!lms.empty()) events.push_back(make_event(group_t, 2, ch_lm, sighting(group_t, lms)));
-      if (!rbs.empty()) events.push_back(make_event(group_t, 3, ch_rb, sighting(group_t, rbs)));
+      if (!lms.empty()) events.add(group_t, 2, ch_lm, sighting(group_t, lms));
+      if (!rbs.empty()) events.add(group_t, 3, ch_rb, sighting(group_t, rbs));
       lms.clear();
       rbs.clear();
     };
@@ -246,16 +231,8 @@ MrclamImport import_mrclam(const std::string& dir, const std::string& out_log, c
     }
     flush();
   }
-  std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) {
-    return a.t_ns != b.t_ns ? a.t_ns < b.t_ns : a.order < b.order;
-  });
-  result.duration_s = events.empty() ? 0.0 : static_cast<double>(events.back().t_ns) * 1e-9;
-
-  node::LogWriter log(out_log);
-  for (const Event& e : events) log.write_raw(e.channel, e.t_ns, e.data.data(), static_cast<int>(e.data.size()));
-  if (log.failures() != 0)
-    throw std::runtime_error(out_log + ": " + std::to_string(log.failures()) + " events not written");
-  result.events = log.events();
+  result.duration_s = static_cast<double>(events.last_ns()) * 1e-9;
+  result.events = events.write_sorted(out_log);
 
   const std::string stem = out_log.size() > 7 && out_log.compare(out_log.size() - 7, 7, ".lcmlog") == 0
                                ? out_log.substr(0, out_log.size() - 7)

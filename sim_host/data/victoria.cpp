@@ -17,10 +17,10 @@
 #include <stdexcept>
 
 #include "data/channels.hpp"
+#include "data/event_buffer.hpp"
 #include "data/formats.hpp"
 #include "data/line_reader.hpp"
 #include "hal/lcm/channels.hpp"
-#include "node/lcm_log_io.hpp"
 
 namespace sim::data {
 namespace {
@@ -39,21 +39,6 @@ using Rows = NumericRows;
 // The numeric rows of one file with their line numbers, times never going back; malformed lines to the report.
 Rows read_rows(const std::string& path, std::size_t fields, ImportReport& report) {
   return read_numeric_rows(path, fields, report, '%', true);
-}
-
-struct Event {
-  std::int64_t t_ns;
-  int order;  // ties: ticks, steering, GPS, trees
-  std::string channel;
-  std::vector<std::uint8_t> data;
-};
-
-template <typename Message>
-Event make_event(std::int64_t t_ns, int order, const std::string& channel, const Message& m) {
-  Event e{t_ns, order, channel, {}};
-  e.data.resize(static_cast<std::size_t>(m.getEncodedSize()));
-  m.encode(e.data.data(), 0, static_cast<int>(e.data.size()));
-  return e;
 }
 
 std::int64_t stamp(double t) { return static_cast<std::int64_t>(std::llround(t * 1e9)); }
@@ -82,7 +67,7 @@ VictoriaImport import_victoria(const std::string& dir, const std::string& out_lo
   const Rows trees = read_rows((fs::path(result.folder) / "measurements.dat").string(), 4, report);
   const Rows gps = read_rows((fs::path(result.folder) / "gps.dat").string(), 3, report);
   const double t_end = o.max_seconds > 0.0 ? o.max_seconds : std::numeric_limits<double>::infinity();
-  std::vector<Event> events;
+  EventBuffer events;  // order at equal stamps: ticks 0, steering 1, GPS 2, trees 3
 
   // Speed and steering: the front axle's travel integrated over each row's interval (the row's speed held until the
   // next), as a counter; the ticks at a row's time come before its steering, so that the interval that ends there
@@ -102,11 +87,11 @@ VictoriaImport import_victoria(const std::string& dir, const std::string& out_lo
     ticks.stamp_ns = stamp(v[0]);
     ticks.counter_bits = 32;
     ticks.count.push_back(static_cast<std::int32_t>(static_cast<std::uint32_t>(count)));
-    events.push_back(make_event(ticks.stamp_ns, 0, channels().wheel_ticks, ticks));
+    events.add(ticks.stamp_ns, 0, channels().wheel_ticks, ticks);
     est_lcm::steering_t steer;
     steer.stamp_ns = ticks.stamp_ns;
     steer.angle_rad = static_cast<float>(v[2]);
-    events.push_back(make_event(steer.stamp_ns, 1, channels().steering, steer));
+    events.add(steer.stamp_ns, 1, channels().steering, steer);
     report.count("speed and steering samples");
     ++result.inputs;
     if (k + 1 < inputs.values.size()) {
@@ -136,7 +121,7 @@ VictoriaImport import_victoria(const std::string& dir, const std::string& out_lo
     m.bearing_rad = bearing;
     m.signature = diameter;
     m.id.assign(range.size(), -1);
-    events.push_back(make_event(scan_t, 3, channels().landmarks, m));
+    events.add(scan_t, 3, channels().landmarks, m);
     ++result.scans;
     range.clear(), bearing.clear(), diameter.clear();
   };
@@ -179,20 +164,13 @@ VictoriaImport import_victoria(const std::string& dir, const std::string& out_lo
     fix.theta_rad = std::numeric_limits<float>::quiet_NaN();
     fix.v_mps = 0.0f;
     fix.omega_rps = 0.0f;
-    events.push_back(make_event(fix.stamp_ns, 2, kGpsChannel, fix));
+    events.add(fix.stamp_ns, 2, kGpsChannel, fix);
     report.count("GPS fixes");
     ++result.gps;
   }
 
-  std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) {
-    return a.t_ns != b.t_ns ? a.t_ns < b.t_ns : a.order < b.order;
-  });
-  result.duration_s = events.empty() ? 0.0 : static_cast<double>(events.back().t_ns) * 1e-9;
-  node::LogWriter log(out_log);
-  for (const Event& e : events) log.write_raw(e.channel, e.t_ns, e.data.data(), static_cast<int>(e.data.size()));
-  if (log.failures() != 0)
-    throw std::runtime_error(out_log + ": " + std::to_string(log.failures()) + " events not written");
-  result.events = log.events();
+  result.duration_s = static_cast<double>(events.last_ns()) * 1e-9;
+  result.events = events.write_sorted(out_log);
   return result;
 }
 
