@@ -21,6 +21,7 @@
 #include "data/channels.hpp"
 #include "data/formats.hpp"
 #include "data/line_reader.hpp"
+#include "hal/sensors/range_scan/lcm.hpp"
 #include "node/lcm_log_io.hpp"
 
 namespace sim::data {
@@ -403,16 +404,8 @@ CarmenImport write_carmen_log(const CarmenData& data, const std::string& out_log
     g.y_m = static_cast<float>(s.reference.y);
     g.theta_rad = static_cast<float>(s.reference.theta);
     log.write(kReferenceChannel, g.stamp_ns, g);
-    est_lcm::range_scan_t m{};
-    m.stamp_ns = s.t_ns;
-    m.angle_min_rad = s.geometry.angle_min_rad;
-    m.angle_increment_rad = s.geometry.angle_increment_rad;
-    m.range_min_m = s.geometry.range_min_m;
-    m.range_max_m = s.geometry.range_max_m;
-    m.scan_time_s = 0.0f;
-    m.ranges_m = s.ranges;
-    m.num_ranges = static_cast<std::int32_t>(m.ranges_m.size());
-    log.write("EST_RANGE_SCAN", m.stamp_ns, m);
+    const hal::RangeScanView view{s.t_ns, s.geometry, s.ranges.data(), s.ranges.size()};
+    log.write(hal::lcm::Channels{}.range_scan, s.t_ns, hal::lcm::to_lcm(view));
     ++r.scans;
   }
   if (log.failures() != 0)

@@ -22,15 +22,12 @@
 #include "data/eval_report.hpp"
 #include "data/import_report.hpp"
 #include "est/geometry/pose2.hpp"
+#include "hal/sensors/range_scan/range_scan.hpp"
 
 namespace sim::data {
 
-struct CarmenScanGeometry {
-  float angle_min_rad = 0.0f;
-  float angle_increment_rad = 0.0f;
-  float range_min_m = 0.0f;
-  float range_max_m = 0.0f;  // readings at or beyond it are max-range ("no return")
-};
+// The HAL's scan geometry (readings at or beyond range_max_m are max-range, "no return"; scan_time_s unused).
+using CarmenScanGeometry = hal::ScanGeometry;
 
 struct CarmenScan {
   std::int64_t t_ns = 0;
