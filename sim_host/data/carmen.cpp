@@ -29,19 +29,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-double wrap(double a) { return std::remainder(a, 2.0 * M_PI); }
 
 struct Pose {
   double x = 0.0, y = 0.0, theta = 0.0;
 };
 Pose compose(const Pose& a, const Pose& b) {
   const double c = std::cos(a.theta), s = std::sin(a.theta);
-  return {a.x + c * b.x - s * b.y, a.y + s * b.x + c * b.y, wrap(a.theta + b.theta)};
+  return {a.x + c * b.x - s * b.y, a.y + s * b.x + c * b.y, wrap_angle(a.theta + b.theta)};
 }
 Pose between(const Pose& a, const Pose& b) {  // a^-1 (+) b
   const double c = std::cos(a.theta), s = std::sin(a.theta);
   const double dx = b.x - a.x, dy = b.y - a.y;
-  return {c * dx + s * dy, -s * dx + c * dy, wrap(b.theta - a.theta)};
+  return {c * dx + s * dy, -s * dx + c * dy, wrap_angle(b.theta - a.theta)};
 }
 
 std::int64_t to_ns(double t_s) { return static_cast<std::int64_t>(std::llround(t_s * 1e9)); }
@@ -112,7 +111,7 @@ CarmenData parse_carmen(const std::string& path, const CarmenImportOptions& o, I
       if (!entries.empty() && entries.back().scan) {
         const TimedPose& c = data.scans[entries.back().scan_index].reference;
         e.reset = v[6] == 0.0 || (std::fabs(c.x - v[0]) < 1e-6 && std::fabs(c.y - v[1]) < 1e-6 &&
-                                  std::fabs(wrap(c.theta - v[2])) < 1e-6);
+                                  std::fabs(wrap_angle(c.theta - v[2])) < 1e-6);
       }
       e.line = ln;
       entries.push_back(e);

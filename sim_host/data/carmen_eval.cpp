@@ -27,7 +27,6 @@ namespace fs = std::filesystem;
 
 constexpr std::int64_t kScanGapNs = 60LL * 1000000000LL;  // reference poses are only at scans: no interpolation
 
-double wrap(double a) { return std::remainder(a, 2.0 * M_PI); }
 
 // The estimates at the scans' stamps (the loop publishes the posterior at a correction's time).
 Trajectory estimates_at_scans(const std::string& path, const Trajectory& reference) {
@@ -59,7 +58,7 @@ Trajectory dead_reckoning(const CarmenLog& log) {
     const double c0 = std::cos(o0.theta), s0 = std::sin(o0.theta);
     const double dx = c0 * (o.x - o0.x) + s0 * (o.y - o0.y), dy = -s0 * (o.x - o0.x) + c0 * (o.y - o0.y);
     const double c = std::cos(r0.theta), s = std::sin(r0.theta);
-    out.push_back({r.t_ns, r0.x + c * dx - s * dy, r0.y + s * dx + c * dy, wrap(r0.theta + o.theta - o0.theta)});
+    out.push_back({r.t_ns, r0.x + c * dx - s * dy, r0.y + s * dx + c * dy, wrap_angle(r0.theta + o.theta - o0.theta)});
   }
   return out;
 }
@@ -120,7 +119,7 @@ NodeRun run_mcl(const std::string& log_path, const Trajectory& reference, const 
 
 bool close_to(const TimedPose& e, const TimedPose& r, const CarmenEvalOptions& o) {
   return std::hypot(e.x - r.x, e.y - r.y) <= o.global_success_m &&
-         std::fabs(wrap(e.theta - r.theta)) <= o.global_success_rad;
+         std::fabs(wrap_angle(e.theta - r.theta)) <= o.global_success_rad;
 }
 
 // The first scan from which the estimate stays close for global_consecutive scans.
@@ -193,7 +192,7 @@ void write_trajectory(const fs::path& p, const Trajectory& est, const Trajectory
     TimedPose r;
     const bool has = interpolate(ref, e.t_ns, kScanGapNs, r);
     f << static_cast<double>(e.t_ns - t0) * 1e-9 << " " << e.x << " " << e.y << " " << e.theta << " "
-      << (has ? std::hypot(e.x - r.x, e.y - r.y) : 0.0) << " " << (has ? std::fabs(wrap(e.theta - r.theta)) : 0.0)
+      << (has ? std::hypot(e.x - r.x, e.y - r.y) : 0.0) << " " << (has ? std::fabs(wrap_angle(e.theta - r.theta)) : 0.0)
       << "\n";
   }
 }

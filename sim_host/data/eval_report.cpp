@@ -12,15 +12,7 @@
 #include <stdexcept>
 
 namespace sim::data {
-namespace {
-
-double wrap(double a) {
-  a = std::fmod(a + M_PI, 2.0 * M_PI);
-  if (a < 0.0) a += 2.0 * M_PI;
-  return a - M_PI;
-}
-
-}  // namespace
+double wrap_angle(double a) { return std::remainder(a, 2.0 * M_PI); }
 
 bool interpolate(const Trajectory& ref, std::int64_t t, std::int64_t max_gap_ns, TimedPose& out) {
   if (ref.empty() || t < ref.front().t_ns || t > ref.back().t_ns) return false;
@@ -37,7 +29,7 @@ bool interpolate(const Trajectory& ref, std::int64_t t, std::int64_t max_gap_ns,
   out.t_ns = t;
   out.x = a.x + s * (b.x - a.x);
   out.y = a.y + s * (b.y - a.y);
-  out.theta = wrap(a.theta + s * wrap(b.theta - a.theta));
+  out.theta = wrap_angle(a.theta + s * wrap_angle(b.theta - a.theta));
   return true;
 }
 
@@ -50,7 +42,7 @@ TrajectoryError trajectory_error(const Trajectory& est, const Trajectory& ref, s
     TimedPose r;
     if (!interpolate(ref, p.t_ns, max_gap_ns, r)) continue;
     const double d2 = (p.x - r.x) * (p.x - r.x) + (p.y - r.y) * (p.y - r.y);
-    const double dth = wrap(p.theta - r.theta);
+    const double dth = wrap_angle(p.theta - r.theta);
     sxy += d2;
     sth += dth * dth;
     e.max_xy_m = std::max(e.max_xy_m, std::sqrt(d2));
@@ -71,7 +63,7 @@ std::vector<ErrorSample> error_series(const Trajectory& est, const Trajectory& r
     TimedPose r;
     if (!interpolate(ref, p.t_ns, max_gap_ns, r)) continue;
     out.push_back({static_cast<double>(p.t_ns - t0_ns) * 1e-9, std::hypot(p.x - r.x, p.y - r.y),
-                   std::fabs(wrap(p.theta - r.theta))});
+                   std::fabs(wrap_angle(p.theta - r.theta))});
   }
   return out;
 }

@@ -15,6 +15,8 @@ struct TimedPose {
 };
 using Trajectory = std::vector<TimedPose>;  // ordered by time
 
+double wrap_angle(double a);  // to [-pi, pi]
+
 // The reference pose at t by linear interpolation (headings along the shorter arc); false outside the reference's
 // span or across a gap longer than max_gap_ns.
 bool interpolate(const Trajectory& reference, std::int64_t t_ns, std::int64_t max_gap_ns, TimedPose& out);

@@ -305,7 +305,7 @@ MrclamOdometryScales fit_mrclam_odometry_scales(const std::string& dir) {
     for (std::size_t k = 0; k + kWindow < std::min(gt.values.size(), od.values.size()); k += kWindow) {
       const auto& a = gt.values[k];
       const auto& b = gt.values[k + kWindow];
-      const double dtheta = std::remainder(b[3] - a[3], 2.0 * M_PI);
+      const double dtheta = wrap_angle(b[3] - a[3]);
       const double ds = std::hypot(b[1] - a[1], b[2] - a[2]);
       double cv = 0.0, cw = 0.0;
       for (std::size_t j = k; j < k + kWindow; ++j) {

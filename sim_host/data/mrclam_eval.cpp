@@ -53,7 +53,7 @@ Trajectory dead_reckoning(const MrclamRobotLog& r) {
     } else {
       x.x += -v / w * std::sin(x.theta) + v / w * std::sin(x.theta + w * dt);
       x.y += v / w * std::cos(x.theta) - v / w * std::cos(x.theta + w * dt);
-      x.theta = std::remainder(x.theta + w * dt, 2.0 * M_PI);
+      x.theta = wrap_angle(x.theta + w * dt);
     }
     x.t_ns = r.twists[k + 1].t_ns;
     out.push_back(x);

@@ -27,7 +27,6 @@ constexpr float kSteerStop = 1.55f;  // rad: the fit's angles reach 75 deg; the 
 
 using Vec = Eigen::Matrix<double, kParams, 1>;
 
-double wrap(double a) { return std::remainder(a, 2.0 * M_PI); }
 
 Vec to_vector(const TricycleParams& p) {
   Vec v;
@@ -43,11 +42,11 @@ struct P2 {
 };
 P2 compose(const P2& a, const P2& b) {
   const double c = std::cos(a.t), s = std::sin(a.t);
-  return {a.x + c * b.x - s * b.y, a.y + s * b.x + c * b.y, wrap(a.t + b.t)};
+  return {a.x + c * b.x - s * b.y, a.y + s * b.x + c * b.y, wrap_angle(a.t + b.t)};
 }
 P2 inverse(const P2& a) {
   const double c = std::cos(a.t), s = std::sin(a.t);
-  return {-c * a.x - s * a.y, s * a.x - c * a.y, wrap(-a.t)};
+  return {-c * a.x - s * a.y, s * a.x - c * a.y, wrap_angle(-a.t)};
 }
 P2 pose_of(const TimedPose& p) { return {p.x, p.y, p.theta}; }
 P2 sensor_of(const TricycleParams& p) { return {p.laser_x, p.laser_y, p.laser_theta}; }
@@ -72,7 +71,7 @@ P2 base_motion(const std::vector<TricycleRecord>& r, std::size_t i, std::size_t 
     f.y += s * sinc * std::sin(f.t + a + half);
     f.t += 2.0 * half;
   }
-  return {f.x - l * std::cos(f.t), f.y - l * std::sin(f.t), wrap(f.t)};
+  return {f.x - l * std::cos(f.t), f.y - l * std::sin(f.t), wrap_angle(f.t)};
 }
 
 // The windows of `window` records in [from, to), every window / 5 records (overlapping: more residuals, same data).
@@ -95,7 +94,7 @@ Eigen::VectorXd residuals(const std::vector<TricycleRecord>& r, const std::vecto
     const auto k = static_cast<Eigen::Index>(3 * w);
     e(k) = predicted.x - tracked.x;
     e(k + 1) = predicted.y - tracked.y;
-    e(k + 2) = wrap(predicted.t - tracked.t);
+    e(k + 2) = wrap_angle(predicted.t - tracked.t);
   }
   return e;
 }
@@ -150,7 +149,7 @@ Fit levenberg_marquardt(const std::vector<TricycleRecord>& r, const std::vector<
     }
     if (!improved) break;
   }
-  x(6) = wrap(x(6));
+  x(6) = wrap_angle(x(6));
   fit.params = from_vector(x);
   fit.cost_after = cost;
   return fit;

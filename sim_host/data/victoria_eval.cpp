@@ -143,7 +143,7 @@ TimedPose start_pose(const VictoriaLog& log, const VictoriaEvalOptions& o) {
     heading = std::atan2(it->y - gy, it->x - gx) - std::atan2(at.y, at.x);
     break;
   }
-  heading = std::remainder(heading, 2.0 * M_PI);
+  heading = wrap_angle(heading);
   const double c = std::cos(heading), s = std::sin(heading);
   return {log.ticks.front().t_ns, gx - c * g.laser_ahead + s * g.laser_left, gy - s * g.laser_ahead - c * g.laser_left,
           heading};
