@@ -129,6 +129,43 @@ TEST_CASE("unknown correspondences: maximum likelihood picks the right landmark"
   CHECK(r.landmark == 2);
 }
 
+TEST_CASE("unknown correspondences: a sighting two landmarks explain almost equally is refused as ambiguous",
+          "[ekf_localization]") {
+  // Two posts 0.6 m apart, both 3 m ahead; a wide belief (0.5 m) cannot tell which one a range and bearing between
+  // them came from: their log likelihoods differ by well under 2 nats.
+  est::Landmark lm[2] = {{3.0f, 0.3f, 1.0f}, {3.0f, -0.3f, 2.0f}};
+  const est::LandmarkMap map{lm, 2};
+  const est::LandmarkNoise noise{0.1f, 0.03f, 0.0f};
+  Ekf::Covariance P0 = Ekf::Covariance::Zero();
+  P0.diagonal() << 0.25f, 0.25f, 0.01f;
+  const est::LandmarkMeasurement between{3.0f, 0.02f, 0.0f};  // slightly closer to the left post
+  const est::LandmarkMeasurement on_left{3.015f, std::atan2(0.3f, 3.0f), 0.0f};
+
+  Ekf plain;  // table 7.3 as printed: the maximum, whatever the margin
+  REQUIRE(plain.init(est::Pose2{0.0f, 0.0f, 0.0f}, P0));
+  const est::AssociationResult taken = plain.correct_range_bearing_unknown(between, map, noise);
+  CHECK(taken.landmark == 0);
+  CHECK(est::accepted(taken.correction.status));
+
+  Ekf::Params p;
+  p.ambiguity_nats = 2.0f;
+  Ekf careful(p);
+  REQUIRE(careful.init(est::Pose2{0.0f, 0.0f, 0.0f}, P0));
+  const est::AssociationResult refused = careful.correct_range_bearing_unknown(between, map, noise);
+  CHECK(refused.landmark == -1);
+  CHECK(refused.correction.status == CorrectionStatus::rejected_ambiguous);
+  CHECK(careful.counters().ambiguous == 1u);
+  CHECK(careful.counters().rejected() == 1u);
+  CHECK(careful.mean().x == 0.0f);  // nothing fused
+  // With the belief tight (0.05 m) the same geometry is no longer ambiguous: a sighting on the left post is fused.
+  Ekf::Covariance P1 = Ekf::Covariance::Zero();
+  P1.diagonal() << 0.0025f, 0.0025f, 0.0004f;
+  REQUIRE(careful.init(est::Pose2{0.0f, 0.0f, 0.0f}, P1));
+  const est::AssociationResult fused = careful.correct_range_bearing_unknown(on_left, map, noise);
+  CHECK(fused.landmark == 0);
+  CHECK(est::accepted(fused.correction.status));
+}
+
 TEST_CASE("5-sigma outliers are gated and counted; bad input is refused by reason; the estimate is never NaN",
           "[ekf_localization]") {
   const World w;

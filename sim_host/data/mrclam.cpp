@@ -155,9 +155,9 @@ MrclamImport import_mrclam(const std::string& dir, const std::string& out_log, c
                 "as printed (5 significant digits: 0.1 s resolution after t = 1000 s)");
   }
   for (int s : o.robots)
-    if (o.scale_v[s] != 1.0 || o.scale_w[s] != 1.0)
+    if (o.scale_v[s] != 1.0 || o.scale_w[s] != 1.0 || o.lag_s[s] != 0.0)
       report.note("robot " + std::to_string(s) + ": the commanded (v, w) scaled by (" + fixed(o.scale_v[s], 3) + ", " +
-                  fixed(o.scale_w[s], 3) + "), an odometry calibration");
+                  fixed(o.scale_w[s], 3) + ") and delayed by " + fixed(o.lag_s[s], 2) + " s, an odometry calibration");
   const auto stamp = [&](double t) { return static_cast<std::int64_t>(std::llround((t - result.t0_unix_s) * 1e9)); };
   const double t_end = o.max_seconds > 0.0 ? o.max_seconds : std::numeric_limits<double>::infinity();
 
@@ -183,7 +183,7 @@ MrclamImport import_mrclam(const std::string& dir, const std::string& out_log, c
     report.count("ground-truth poses", r.truth.values.size());
     for (std::size_t k = 0; k < r.odometry.values.size(); ++k) {
       const auto& v = r.odometry.values[k];
-      const double t = result.sampled ? kSampledStepS * static_cast<double>(k) : v[0];
+      const double t = (result.sampled ? kSampledStepS * static_cast<double>(k) : v[0]) + o.lag_s[s];
       if (t - result.t0_unix_s > t_end) break;
       est_lcm::twist_t tw;
       tw.stamp_ns = stamp(t);
@@ -296,26 +296,38 @@ MrclamOdometryScales fit_mrclam_odometry_scales(const std::string& dir) {
   ImportReport quiet(OnError::skip, nullptr);
   if (has_header((fs::path(dir) / "Robot1_Odometry.dat").string()))
     throw std::runtime_error(dir + ": the odometry calibration needs the sampled-50hz layout (rows on one grid)");
-  constexpr std::size_t kWindow = 25;  // 0.5 s: chords are arcs to well under a millimetre at these speeds
+  constexpr std::size_t kWindow = 25;   // 0.5 s: chords are arcs to well under a millimetre at these speeds
+  constexpr std::size_t kMaxLag = 25;   // 0.5 s, in rows
   for (int s = 1; s <= kMrclamRobots; ++s) {
     const std::string id = std::to_string(s);
     const Rows gt = read_rows((fs::path(dir) / ("Robot" + id + "_Groundtruth.dat")).string(), 4, quiet);
     const Rows od = read_rows((fs::path(dir) / ("Robot" + id + "_Odometry.dat")).string(), 3, quiet);
-    double sw = 0.0, sww = 0.0, sv = 0.0, svv = 0.0;
-    for (std::size_t k = 0; k + kWindow < std::min(gt.values.size(), od.values.size()); k += kWindow) {
-      const auto& a = gt.values[k];
-      const auto& b = gt.values[k + kWindow];
-      const double dtheta = wrap_angle(b[3] - a[3]);
-      const double ds = std::hypot(b[1] - a[1], b[2] - a[2]);
-      double cv = 0.0, cw = 0.0;
-      for (std::size_t j = k; j < k + kWindow; ++j) {
-        cv += od.values[j][1] * kSampledStepS;
-        cw += od.values[j][2] * kSampledStepS;
+    const std::size_t n = std::min(gt.values.size(), od.values.size());
+    double best_residual = std::numeric_limits<double>::infinity();
+    for (std::size_t lag = 0; lag <= kMaxLag; ++lag) {
+      // The true increment over rows [k, k + kWindow) against the commands of the rows `lag` earlier.
+      double sw = 0.0, sww = 0.0, stt = 0.0, sv = 0.0, svv = 0.0;
+      for (std::size_t k = kMaxLag; k + kWindow < n; k += kWindow) {
+        const auto& a = gt.values[k];
+        const auto& b = gt.values[k + kWindow];
+        const double dtheta = wrap_angle(b[3] - a[3]);
+        const double ds = std::hypot(b[1] - a[1], b[2] - a[2]);
+        double cv = 0.0, cw = 0.0;
+        for (std::size_t j = k - lag; j < k + kWindow - lag; ++j) {
+          cv += od.values[j][1] * kSampledStepS;
+          cw += od.values[j][2] * kSampledStepS;
+        }
+        sw += dtheta * cw, sww += cw * cw, stt += dtheta * dtheta, sv += ds * std::fabs(cv), svv += cv * cv;
       }
-      sw += dtheta * cw, sww += cw * cw, sv += ds * std::fabs(cv), svv += cv * cv;
+      if (!(sww > 0.0)) break;
+      const double residual = stt - sw * sw / sww;  // of the least squares turn fit
+      if (residual < best_residual) {
+        best_residual = residual;
+        out.lag_s[s] = kSampledStepS * static_cast<double>(lag);
+        out.w[s] = sw / sww;
+        out.v[s] = svv > 0.0 ? sv / svv : 1.0;
+      }
     }
-    if (sww > 0.0) out.w[s] = sw / sww;
-    if (svv > 0.0) out.v[s] = sv / svv;
   }
   return out;
 }

@@ -28,17 +28,22 @@ struct MrclamImportOptions {
   std::vector<int> robots{1, 2, 3, 4, 5};  // subjects to import
   double max_seconds = 0.0;                // > 0: only t <= max_seconds
   bool fix_landmarks = true;               // Dataset 1's swapped landmarks 11 and 17
-  // An odometry calibration, by subject (index 0 unused): the logged (v, w) is the commanded one times these.
+  // An odometry calibration, by subject (index 0 unused): the logged (v, w) is the commanded one times these,
+  // stamped lag_s later than the command (the robot's motion follows its command).
   double scale_v[kMrclamRobots + 1] = {1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
   double scale_w[kMrclamRobots + 1] = {1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
+  double lag_s[kMrclamRobots + 1] = {};
 };
 
 // The robots do not move as commanded: over 0.5 s windows the Vicon turn is 0.68-0.86 of the commanded w dt and the
-// distance 0.89-0.92 of v dt (Datasets 1 and 2). Least squares of the true increment on the commanded one, per
-// robot, from a sampled-50hz folder: the calibration one dataset gives the other.
+// distance 0.89-0.92 of v dt (Datasets 1 and 2), and the motion follows the command by 0.2-0.3 s (the lag that
+// best explains the Vicon turns). Per robot, from a sampled-50hz folder: the lag (0 to 0.5 s in 0.02 s steps) whose
+// least squares of the true turns on the commanded ones leaves the smallest residual, and at that lag the least
+// squares scales of the true increments on the commanded ones. The calibration one dataset gives the other.
 struct MrclamOdometryScales {
   double v[kMrclamRobots + 1] = {1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
   double w[kMrclamRobots + 1] = {1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
+  double lag_s[kMrclamRobots + 1] = {};
 };
 MrclamOdometryScales fit_mrclam_odometry_scales(const std::string& sampled_dir);
 

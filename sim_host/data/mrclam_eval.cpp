@@ -78,6 +78,7 @@ Trajectory run_node(const MrclamEval& ev, const MrclamRobotLog& r, const std::st
   s.motion.velocity = motion_noise(o.noise);
   s.landmark_noise = camera_noise(o.noise);
   s.ekf_rot_sigma = o.noise.rot_sigma;
+  s.ambiguity_nats = o.noise.ambiguity_nats;
   const TimedPose x0 = first_truth(r);
   s.initial_pose = {static_cast<float>(x0.x), static_cast<float>(x0.y), static_cast<float>(x0.theta)};
   s.initial_sigma_xy_m = 0.05f;
@@ -307,6 +308,7 @@ MrclamEval eval_mrclam(const std::string& dir, const MrclamEvalOptions& o) {
     ev.scales = fit_mrclam_odometry_scales(ev.calibration_dir);
     std::copy(std::begin(ev.scales.v), std::end(ev.scales.v), io.scale_v);
     std::copy(std::begin(ev.scales.w), std::end(ev.scales.w), io.scale_w);
+    std::copy(std::begin(ev.scales.lag_s), std::end(ev.scales.lag_s), io.lag_s);
   }
   ev.import = import_mrclam(dir, ev.log_path, io, report);
   if (!ev.import.has_ground_truth)
@@ -356,7 +358,7 @@ nlohmann::json to_json(const MrclamEval& ev) {
     methods.push_back({{"name", m.name}, {"robots", robots}, {"run_time_s", m.run_time_s}, {"detail", m.detail}});
   }
   nlohmann::json scales = nlohmann::json::array();
-  for (int r = 1; r <= kMrclamRobots; ++r) scales.push_back({{"id", r}, {"v", ev.scales.v[r]}, {"w", ev.scales.w[r]}});
+  for (int r = 1; r <= kMrclamRobots; ++r) scales.push_back({{"id", r}, {"v", ev.scales.v[r]}, {"w", ev.scales.w[r]}, {"lag_s", ev.scales.lag_s[r]}});
   return {{"dataset", ev.import.dataset},
           {"odometry_calibration", {{"fitted_on", ev.calibration_dir}, {"scales", scales}}},
           {"layout", ev.import.sampled ? "sampled-50hz" : "raw"},
@@ -384,6 +386,9 @@ void add_mrclam_eval(CLI::App& eval) {
                   "'': none, the commanded (v, w) as they are)")->capture_default_str();
   cmd->add_option("--sigma-range", opts->noise.sigma_range, "camera range noise (m)")->capture_default_str();
   cmd->add_option("--sigma-bearing", opts->noise.sigma_bearing, "camera bearing noise (rad)")->capture_default_str();
+  cmd->add_option("--ambiguity-nats", opts->noise.ambiguity_nats,
+                  "unknown correspondence: refuse a sighting whose runner-up landmark is this close (log likelihood)")
+      ->capture_default_str();
   cmd->add_option("--rot-sigma", opts->noise.rot_sigma, "heading noise per 10 ms prediction (rad)")
       ->capture_default_str();
   auto a = std::make_shared<std::vector<float>>(std::begin(opts->noise.a), std::end(opts->noise.a));
@@ -421,8 +426,9 @@ void add_mrclam_eval(CLI::App& eval) {
     }
     print_table(stdout, header, rows);
     if (!ev.calibration_dir.empty()) {
-      std::printf("  odometry calibration fitted on %s (v, w scale by robot):", ev.calibration_dir.c_str());
-      for (int r = 1; r <= kMrclamRobots; ++r) std::printf(" %d: %.3f, %.3f", r, ev.scales.v[r], ev.scales.w[r]);
+      std::printf("  odometry calibration fitted on %s (v, w scale and lag by robot):", ev.calibration_dir.c_str());
+      for (int r = 1; r <= kMrclamRobots; ++r)
+        std::printf(" %d: %.3f, %.3f, %.2f s", r, ev.scales.v[r], ev.scales.w[r], ev.scales.lag_s[r]);
       std::printf("\n");
     }
     for (const MrclamMethodResult& m : ev.methods)

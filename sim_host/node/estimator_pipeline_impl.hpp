@@ -191,6 +191,7 @@ class PipelineImpl final : public EstimatorPipeline {
       return Estimator(e, s.seed, make_scan_model<ScanModel>(s, m), m.free_space);
     } else {
       e.ekf.additive_process_noise(2, 2) = s.ekf_rot_sigma * s.ekf_rot_sigma;
+      e.ekf.ambiguity_nats = s.ambiguity_nats;
       e.noise = s.landmark_noise;
       e.lost_sigma_m = s.lost_sigma_m;
       e.sensor_ids = s.landmark_ids;

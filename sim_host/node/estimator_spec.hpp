@@ -91,6 +91,7 @@ struct EstimatorSpec {
   float ekf_rot_sigma = 0.002f;  // heading noise added per prediction (rad): what the motion model leaves out
   float lost_sigma_m = 5.0f;
   bool landmark_ids = true;    // false: the sensor's landmark ids are ignored (association by maximum likelihood)
+  float ambiguity_nats = 0.0f;  // EKF, maximum likelihood: refuse a feature whose runner-up is this close (nats)
   bool mcl_landmarks = false;  // MCL corrects with landmark sightings on the landmark map, as well as with scans
 
   // The loop and the HAL gate.

@@ -253,6 +253,10 @@ void add_options(CLI::App& app, NodeConfig& c) {
          "sensor: a feature's id from the sensor where it gives one (table 7.2), else maximum likelihood (table 7.3); "
          "ml: maximum likelihood for every feature, the sensor's ids ignored")
       ->default_str("sensor")->group(ekf);
+  app.add_option("--ambiguity-nats", e.ambiguity_nats,
+                 "EKF with maximum likelihood association: refuse a feature whose second-best landmark is within "
+                 "this log likelihood of the best (0: take the best whatever the margin)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
   app.add_flag("--mcl-landmarks", e.mcl_landmarks,
                "MCL also corrects with landmark sightings on --landmarks (table 6.4 per particle)")->group(ekf);
   app.add_option("--ekf-rot-sigma", e.ekf_rot_sigma, "heading noise added to every EKF prediction (rad)")->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
@@ -385,6 +389,7 @@ std::string command_line(const EstimatorSpec& e, const std::string& map, const s
          f(e.landmark_noise.sigma_signature) + " --landmark-max-range " + f(e.limits.landmarks.max_range_m);
     if (!e.landmark_ids) o += " --landmark-association ml";
   }
+  if (e.filter == est::loop::Filter::ekf && e.ambiguity_nats > 0.0f) o += " --ambiguity-nats " + f(e.ambiguity_nats);
   if (e.filter == est::loop::Filter::ekf) {
     o += " --ekf-rot-sigma " + f(e.ekf_rot_sigma) + " --lost-sigma " + f(e.lost_sigma_m);
   } else {

@@ -13,6 +13,7 @@ enum class CorrectionStatus : std::uint8_t {
   rejected_bad_input,         // a robot index out of range, a robot measuring itself, negative noise, zero range
   rejected_capacity,          // the state or the initializer is full
   pending_initialization,     // range-only landmark not yet in the state: kept for its initialization, not fused
+  rejected_ambiguous,         // unknown correspondence: another landmark explains the measurement almost as well
 };
 
 constexpr bool accepted(CorrectionStatus s) { return s == CorrectionStatus::accepted; }
@@ -27,6 +28,7 @@ struct CorrectionCounters {
   std::uint32_t bad_input = 0;
   std::uint32_t capacity = 0;
   std::uint32_t pending = 0;
+  std::uint32_t ambiguous = 0;
 
   void count(CorrectionStatus s) {
     switch (s) {
@@ -38,9 +40,12 @@ struct CorrectionCounters {
       case CorrectionStatus::rejected_bad_input: ++bad_input; break;
       case CorrectionStatus::rejected_capacity: ++capacity; break;
       case CorrectionStatus::pending_initialization: ++pending; break;
+      case CorrectionStatus::rejected_ambiguous: ++ambiguous; break;
     }
   }
-  std::uint32_t rejected() const { return gated_out + nonfinite + not_pd + unknown_landmark + bad_input + capacity; }
+  std::uint32_t rejected() const {
+    return gated_out + nonfinite + not_pd + unknown_landmark + bad_input + capacity + ambiguous;
+  }
   std::uint32_t total() const { return accepted + rejected() + pending; }
 };
 

@@ -3,7 +3,11 @@
 // motion model of est/motion (its G, V, M; table 7.2 lines 2-7) and corrected with landmarks of a known map:
 //   correct_range_bearing            table 7.2 lines 8-20, known correspondence (the landmark's index in the map)
 //   correct_range_bearing_unknown    table 7.3, the correspondence by maximum likelihood among the landmarks whose
-//                                    Mahalanobis distance passes the gate (and whose signature agrees)
+//                                    Mahalanobis distance passes the gate (and whose signature agrees); with
+//                                    Params::ambiguity_nats > 0, refused when a second landmark's likelihood is
+//                                    within that many nats of the best: table 7.3 takes the maximum even when it is
+//                                    a coin toss, and one wrong association pulls the estimate towards the wrong
+//                                    landmark, where the next ones then agree with it (the filter is lost)
 //   correct_range                    a range-only beacon (one row of the same model)
 // Every measurement is fused one at a time (the book's loop over features), with the Joseph-form update of
 // est/filter/sparse_joseph_update.hpp; the updated covariance is checked by Cholesky before it is committed, so a
@@ -61,6 +65,9 @@ class EkfLocalization {
     // Added to V M V^T every prediction: unmodelled motion (slip, the velocity model's final turn gamma). Zero by
     // default; must be symmetric positive semi-definite.
     Covariance additive_process_noise = Covariance::Zero();
+    // Unknown correspondence: the least margin (log likelihood, nats) of the best gated landmark over the second
+    // for a measurement to be fused; 0 fuses the maximum whatever the margin (table 7.3 as printed).
+    float ambiguity_nats = 0.0f;
   };
 
   EkfLocalization() = default;
@@ -120,8 +127,9 @@ class EkfLocalization {
     AssociationResult out;
     out.landmark = associate(z, map, noise, &out.correction.nis);
     if (out.landmark < 0) {
-      out.correction.status =
-          out.landmark == kNoLandmark ? CorrectionStatus::rejected_unknown_landmark : CorrectionStatus::rejected_gate;
+      out.correction.status = out.landmark == kNoLandmark  ? CorrectionStatus::rejected_unknown_landmark
+                              : out.landmark == kAmbiguous ? CorrectionStatus::rejected_ambiguous
+                                                           : CorrectionStatus::rejected_gate;
       count(out.correction);
       out.landmark = -1;
       return out;
@@ -158,6 +166,7 @@ class EkfLocalization {
 
  private:
   static constexpr std::int32_t kNoLandmark = -2;
+  static constexpr std::int32_t kAmbiguous = -3;
 
   static Eigen::Matrix2f q_of(const LandmarkNoise& n) {
     Eigen::Matrix2f Q = Eigen::Matrix2f::Zero();
@@ -199,7 +208,8 @@ class EkfLocalization {
   }
 
   // Maximum likelihood over the map (table 7.3 lines 9-18) with gating; returns the index, -1 if none passes the
-  // gate, kNoLandmark if the map is empty. *best_nis gets the NIS of the winner (or the smallest seen).
+  // gate, kNoLandmark if the map is empty, kAmbiguous if the runner-up is within ambiguity_nats of the winner.
+  // *best_nis gets the NIS of the winner (or the smallest seen).
   std::int32_t associate(const LandmarkMeasurement& z, const LandmarkMap& map, const LandmarkNoise& noise,
                          float* best_nis) const {
     if (map.size() <= 0) return kNoLandmark;
@@ -209,7 +219,8 @@ class EkfLocalization {
     const bool use_signature = noise.sigma_signature > 0.0f;
     const float gate = use_signature ? params_.gate.chi2_3dof : params_.gate.chi2_2dof;
     std::int32_t best = -1;
-    float best_score = 0.0f;
+    float best_score = 0.0f, second_score = 0.0f;
+    bool has_second = false;
     float smallest = -1.0f;
     for (std::int32_t k = 0; k < map.size(); ++k) {  // bounded by the map's size
       const Landmark& l = map[k];
@@ -231,12 +242,17 @@ class EkfLocalization {
       if (gate > 0.0f && d2 > gate) continue;
       const float score = -0.5f * d2 - 0.5f * log_det;  // log N(z; z_hat_k, S_k) up to a constant
       if (best < 0 || score > best_score) {
+        if (best >= 0) second_score = best_score, has_second = true;
         best = k;
         best_score = score;
         *best_nis = d2;
+      } else if (!has_second || score > second_score) {
+        second_score = score;
+        has_second = true;
       }
     }
     if (best < 0) *best_nis = smallest;
+    if (best >= 0 && has_second && best_score - second_score < params_.ambiguity_nats) return kAmbiguous;
     return best;
   }
 
