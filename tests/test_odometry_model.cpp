@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -62,7 +63,7 @@ TEST_CASE("zero noise: sample equals the odometry increment applied to the pose"
     CHECK(x.y == Approx(4.0).margin(1e-6));
     CHECK(std::fabs(std::fabs(d(x.theta)) - kPi) < 1e-6);  // pi, wrapped to (-pi, pi]
   }
-  SECTION("reversing: rot1 = pi, rot2 = -pi, the robot backs up along its heading") {
+  SECTION("reversing: the robot backs up along its heading (the increment (0, -1, 0), not (pi, 1, -pi))") {
     const OdometryControl u{{0.0f, 0.0f, 0.0f}, {-1.0f, 0.0f, 0.0f}};
     const Pose2 x = OdometryMotionModel::sample({1.0f, 1.0f, est::kHalfPi}, u, p, rng);
     CHECK(x.x == Approx(1.0).margin(1e-6));
@@ -102,6 +103,70 @@ TEST_CASE("zero noise: sample equals the odometry increment applied to the pose"
     CHECK(bits(x.y) == bits(y.y));
     CHECK(bits(x.theta) == bits(y.theta));
   }
+}
+
+TEST_CASE("reversing is read as the robot's own motion: trans < 0, rot1 and rot2 the small rotations", "[odometry]") {
+  const OdometryParams p = noisy();
+  SECTION("backing up 0.1 m straight: (0, -0.1, 0), not (pi, 0.1, -pi)") {
+    const Pose2 a{2.0f, 1.0f, 0.7f};
+    const OdometryControl u{a, {a.x - 0.1f * std::cos(a.theta), a.y - 0.1f * std::sin(a.theta), a.theta}};
+    const auto inc = est::odometry_increment(u, p);
+    CHECK(inc.rot1 == Approx(0.0).margin(1e-5));
+    CHECK(inc.trans == Approx(-0.1).epsilon(1e-5));
+    CHECK(inc.rot2 == Approx(0.0).margin(1e-5));
+  }
+  SECTION("a chord behind the robot on either side: rot1 shifted by pi into [-pi/2, pi/2], the turn kept") {
+    for (const float r1 : {0.4f, -1.2f, 1.5f}) {
+      const OdometryControl u = control(r1, -0.6f, -0.3f);
+      const auto inc = est::odometry_increment(u, p);
+      INFO("rot1 " << r1);
+      CHECK(inc.rot1 == Approx(r1).margin(1e-5));
+      CHECK(inc.trans == Approx(-0.6).epsilon(1e-6));
+      CHECK(inc.rot2 == Approx(-0.3).margin(1e-5));
+    }
+  }
+  SECTION("|rot1| = pi/2 exactly (sideways) stays forward; just past it, reverse") {
+    const OdometryControl side{{0.0f, 0.0f, 0.0f}, {0.0f, 0.5f, 0.0f}};
+    CHECK(est::odometry_increment(side, p).trans == Approx(0.5).epsilon(1e-6));
+    CHECK(est::odometry_increment(side, p).rot1 == Approx(kPi / 2).margin(1e-6));
+    const OdometryControl past{{0.0f, 0.0f, 0.0f}, {-1e-3f, 0.5f, 0.0f}};
+    CHECK(est::odometry_increment(past, p).trans == Approx(-0.5).epsilon(1e-5));
+    CHECK(est::odometry_increment(past, p).rot1 == Approx(-kPi / 2 + 2e-3).margin(1e-5));
+  }
+}
+
+TEST_CASE("a robot backing up 0.1 m straight keeps the heading spread of its small rotations, not a scatter over pi",
+          "[odometry]") {
+  // Increment (0, -0.1, 0): theta' - theta = rot1_hat + rot2_hat with var(rot1 noise) = var(rot2 noise) =
+  // a1 0^2 + a2 0.1^2 = 1e-4, so the heading's sd is sqrt(2e-4) = 0.01414 rad; the travel along the start heading is
+  // trans_hat cos(rot1_hat): mean -0.1 (1 - 5e-5), sd sqrt(a3 0.1^2 + a4 0) = 0.01 m. Read forward as
+  // (pi, 0.1, -pi) the heading's sd would be sqrt(2 (a1 pi^2 + a2 0.1^2)) = 0.63 rad and trans noise's 0.31 m.
+  // Tolerances: 5 standard errors of the sample mean and variance at n = 100k (2.2 % on a variance).
+  const OdometryParams p = noisy();
+  const Pose2 a{2.0f, 1.0f, 0.7f};
+  const OdometryControl u{a, {a.x - 0.1f * std::cos(a.theta), a.y - 0.1f * std::sin(a.theta), a.theta}};
+  const Pose2 x0{-3.0f, 4.0f, 0.3f};
+  constexpr std::size_t n = 100000;
+  est::Rng rng(77u);
+  std::vector<double> heading, along;
+  heading.reserve(n);
+  along.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Pose2 x = OdometryMotionModel::sample(x0, u, p, rng);
+    heading.push_back(wrap(d(x.theta) - d(x0.theta)));
+    along.push_back((d(x.x) - d(x0.x)) * std::cos(d(x0.theta)) + (d(x.y) - d(x0.y)) * std::sin(d(x0.theta)));
+  }
+  const double var_heading = 2.0 * 0.01 * 0.1 * 0.1, var_along = 0.01 * 0.1 * 0.1;
+  const auto h = est::test::moments(heading), t = est::test::moments(along);
+  INFO("heading mean " << h.mean << " sd " << std::sqrt(h.variance) << "; along mean " << t.mean << " sd "
+                       << std::sqrt(t.variance));
+  CHECK(std::fabs(h.mean) < 5.0 * est::test::mean_standard_error(var_heading, n));
+  CHECK(std::fabs(h.variance - var_heading) < 5.0 * est::test::variance_standard_error(var_heading, 0.0, n));
+  double worst = 0.0;
+  for (double e : heading) worst = std::max(worst, std::fabs(e));
+  CHECK(worst < 8.0 * std::sqrt(var_heading));
+  CHECK(std::fabs(t.mean - (-0.1 * (1.0 - 0.5 * 1e-4))) < 5.0 * est::test::mean_standard_error(var_along, n));
+  CHECK(std::fabs(t.variance - var_along) < 5.0 * est::test::variance_standard_error(var_along, 0.0, n));
 }
 
 namespace {
@@ -168,6 +233,21 @@ std::vector<Case> cases() {
        wide,
        {{-0.25, 0.1 - 0.12, -0.15}, {0.3, 0.1 + 0.12, 0.15}, {12, 12, 10}},
        true},
+      // the mirror images of the first and the third: the same boxes reflected through x0 along the travel
+      {"reversing: rot1 = 0.3, trans = -0.8, rot2 = 0.3",
+       {0.5f, -0.3f, 0.2f},
+       control(0.3f, -0.8f, 0.3f),
+       noisy(),
+       {{0.5 - 0.8 * std::cos(0.5) - 0.6, -0.3 - 0.8 * std::sin(0.5) - 0.6, 0.8 - 0.9},
+        {0.5 - 0.8 * std::cos(0.5) + 0.6, -0.3 - 0.8 * std::sin(0.5) + 0.6, 0.8 + 0.9},
+        {12, 12, 10}},
+       false},
+      {"short reverse step trans = -0.05 with trans noise 0.037: 9 % of samples land ahead (second preimage)",
+       {0.0f, 0.0f, 0.0f},
+       control(0.1f, -0.05f, -0.1f),
+       wide,
+       {{-0.3, 0.1 - 0.12, -0.15}, {0.25, 0.1 + 0.12, 0.15}, {12, 12, 10}},
+       true},
   };
 }
 
@@ -188,7 +268,8 @@ std::vector<double> cell_masses(const Case& c, int sub) {
 TEST_CASE("likelihood integrates to one over the pose (table 5.5 with 1/rho and both preimages)", "[odometry]") {
   // 36 x 36 x 30 sub-cells x 27 Gauss points = 1.05e6 evaluations per case, boxes of >= 7 sigma (no sample of 200k
   // outside, checked below). Measured |mass - 1| <= 2e-6. Table 5.5's forward preimage alone would give 0.91 in the
-  // third case (the 9 % of negative trans_hat).
+  // third case (the 9 % of negative trans_hat). Reversing, an increment read forward as (~pi, 0.8, ~-pi) would put
+  // most of the mass outside the fourth and fifth boxes (heading sd 0.6 rad).
   for (const Case& c : cases()) {
     INFO(c.name);
     const double mass = est::test::total(cell_masses(c, 3));
@@ -215,15 +296,19 @@ TEST_CASE("sample and likelihood agree: chi-square over 1440 cells at 200k sampl
 TEST_CASE("the book's unnormalized product differs from the density by rho where the second preimage is negligible",
           "[odometry]") {
   const OdometryParams p = noisy();
-  const OdometryControl u = control(0.3f, 0.8f, 0.3f);
   const Pose2 x0{0.0f, 0.0f, 0.0f};
-  const Pose2 x{0.7f, 0.25f, 0.55f};
-  const double rho = std::hypot(0.7, 0.25);
-  const double ratio =
-      d(est::motion_model_odometry_unnormalized(x, u, x0, p)) / d(est::motion_model_odometry(x, u, x0, p));
-  CHECK(ratio == Approx(rho).epsilon(1e-4));
-  CHECK(std::log(d(OdometryMotionModel::likelihood(x, u, x0, p))) ==
-        Approx(d(OdometryMotionModel::log_likelihood(x, u, x0, p))).margin(1e-5));
+  // forward, and reversing with lines 5-7 reading the pose pair as a reverse translation too
+  for (const float sign : {1.0f, -1.0f}) {
+    const OdometryControl u = control(0.3f, sign * 0.8f, 0.3f);
+    const Pose2 x{sign * 0.7f, sign * 0.25f, 0.55f};
+    const double rho = std::hypot(0.7, 0.25);
+    INFO("trans " << sign * 0.8f);
+    const double ratio =
+        d(est::motion_model_odometry_unnormalized(x, u, x0, p)) / d(est::motion_model_odometry(x, u, x0, p));
+    CHECK(ratio == Approx(rho).epsilon(1e-4));
+    CHECK(std::log(d(OdometryMotionModel::likelihood(x, u, x0, p))) ==
+          Approx(d(OdometryMotionModel::log_likelihood(x, u, x0, p))).margin(1e-5));
+  }
 }
 
 TEST_CASE("Jacobians G and V (w.r.t. rot1, trans, rot2) match central differences; M is the book's variances",
@@ -233,17 +318,25 @@ TEST_CASE("Jacobians G and V (w.r.t. rot1, trans, rot2) match central difference
     return std::array<double, 3>{s[0] + inc[1] * std::cos(s[2] + inc[0]), s[1] + inc[1] * std::sin(s[2] + inc[0]),
                                  s[2] + inc[0] + inc[2]};
   };
+  // Reversing (trans = -0.5, and odometry rot1 = -2.0 forward, which is rot1 = -2 + pi backwards): the increment is
+  // (rot1 in [-pi/2, pi/2], trans < 0, rot2), and G, V, M are taken there.
   const OdometryParams p = noisy();
   const Pose2 x0{0.4f, -1.0f, 2.9f};
   const float rot1s[] = {0.3f, -2.0f, 0.0f};
   for (float r1 : rot1s)
-    for (float tr : {0.8f, 0.0f}) {
-      const OdometryControl u = tr > 0.0f ? control(r1, tr, -0.4f) : OdometryControl{{0, 0, 0}, {0, 0, 0.6f}};
+    for (float tr : {0.8f, -0.5f, 0.0f}) {
+      const OdometryControl u = tr != 0.0f ? control(r1, tr, -0.4f) : OdometryControl{{0, 0, 0}, {0, 0, 0.6f}};
       const auto inc = est::odometry_increment(u, p);
       const auto j = OdometryMotionModel::jacobians(x0, u, p);
       const double s[3] = {d(x0.x), d(x0.y), d(x0.theta)};
       const double q[3] = {d(inc.rot1), d(inc.trans), d(inc.rot2)};
-      INFO("rot1 " << r1 << " trans " << tr);
+      INFO("rot1 " << r1 << " trans " << tr << " increment " << q[0] << " " << q[1] << " " << q[2]);
+      CHECK(std::fabs(q[0]) <= kPi / 2 + 1e-6);
+      if (tr != 0.0f) {
+        const bool behind = std::fabs(d(r1)) > kPi / 2 ? tr > 0.0f : tr < 0.0f;
+        CHECK((q[1] < 0.0) == behind);
+        CHECK(std::fabs(q[1]) == Approx(std::fabs(tr)).epsilon(1e-5));
+      }
       for (int k = 0; k < 3; ++k) {
         double sa[3] = {s[0], s[1], s[2]}, sb[3] = {s[0], s[1], s[2]};
         double qa[3] = {q[0], q[1], q[2]}, qb[3] = {q[0], q[1], q[2]};

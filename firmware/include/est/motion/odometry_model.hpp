@@ -5,8 +5,17 @@
 //   var(rot2 noise) = a1 rot2^2 + a2 trans^2,
 // the book's parametrization (tables 5.5 and 5.6 pass VARIANCES to prob and sample); zero-mean normal noise.
 //
+// Reverse motion: lines 2-4 read every translation as a forward one, so a robot that backs up straight has
+// rot1 = atan2(dy, dx) - theta ~ pi and rot2 ~ -pi, and a1 pi^2 of noise on each scatters its heading around the
+// circle although it never turned (MCL lost the Intel Research Lab robot that way). When |rot1| > pi/2 the
+// increment is read as the robot's own motion: trans < 0, rot1 and rot2 shifted by pi (rot1 into [-pi/2, pi/2]),
+// which reaches the same pose with the same turn rot1 + rot2, and the noise is that of the small rotations the robot
+// made; a chord straight sideways (|rot1| = pi/2) reads the same either way. The sign is all the rest of the model
+// sees: g, G and V below hold for a signed trans, the variances use trans^2, and the density already sums both
+// preimages. A forward increment is read as before, to the bit.
+//
 // Pure rotation: when the odometry translation is below Params::min_translation the direction atan2(dy, dx) is
-// odometry noise, and the book's rot1 would be anything in (-pi, pi] (with a1 rot1^2 of noise to match). Then
+// odometry noise, and rot1 would be anything in [-pi/2, pi/2] (with a1 rot1^2 of noise to match). Then
 // rot1 = rot2 = (theta_bar_t - theta_bar_{t-1}) / 2 is used: the limit of a constant-curvature arc as its length goes
 // to zero, since an arc's chord leaves at half the turn. The (tiny) translation is kept. A stationary robot (both
 // zero) has zero noise: the model then is a point mass at x_prev.
@@ -15,10 +24,10 @@
 // (rot1_hat, trans_hat, rot2_hat); the map to (x', y', theta') is polar in (trans_hat, theta + rot1_hat) with
 // theta' = theta + rot1_hat + rot2_hat, so its determinant is |trans_hat| and the density over the pose is
 // p1 p2 p3 / rho with rho = |(x', y') - (x, y)|. Two corrections to the table make it the density the sampler
-// draws from: the sampled trans_hat can be negative (noise larger than the translation), so each pose has two
-// preimages, (psi - theta, rho, ...) and (psi - theta + pi, -rho, ...), whose terms are added; and every angle
-// difference is wrapped to (-pi, pi] (the nearest winding; exact unless rotation noise reaches order pi).
-// Singular point: rho -> 0 (x' on top of x); the 1/rho singularity is integrable and rho is floored at
+// draws from: trans_hat has either sign (the increment's own when reversing, or noise larger than the translation),
+// so each pose has two preimages, (psi - theta, rho, ...) and (psi - theta + pi, -rho, ...), whose terms are added;
+// and every angle difference is wrapped to (-pi, pi] (the nearest winding; exact unless rotation noise reaches
+// order pi). Singular point: rho -> 0 (x' on top of x); the 1/rho singularity is integrable and rho is floored at
 // kOdometryMinChord (1e-6 m), where the commanded rot1 is taken as the chord direction. Every log density is clamped to
 // [kLogZero, kMaxLogDensity] (est/motion/motion_density.hpp): never NaN or inf. The book's product is kept as
 // motion_model_odometry_unnormalized.
@@ -58,11 +67,12 @@ struct OdometryParams {
 
 inline constexpr float kOdometryMinChord = 1.0e-6f;  // m
 
-// The odometry increment of table 5.5, lines 2-4 (and table 5.6, lines 2-4), angles in (-pi, pi].
+// The odometry increment of table 5.5, lines 2-4 (and table 5.6, lines 2-4), read as the robot's own motion (see
+// the header comment).
 struct OdometryIncrement {
-  float rot1;
-  float trans;
-  float rot2;
+  float rot1;   // rad, in [-pi/2, pi/2]
+  float trans;  // m, negative when the robot backs up
+  float rot2;   // rad, in (-pi, pi]
 };
 
 inline MotionStatus check_motion_odometry(const OdometryControl& u, const OdometryParams& p) {
@@ -81,6 +91,22 @@ inline MotionStatus check_motion_odometry(const OdometryControl& u, const Odomet
   return MotionStatus::ok;
 }
 
+// Lines 2-4 of the tables for a chord (dx, dy) of length `chord` seen from heading theta, with the total turn `turn`:
+// a chord behind the robot is a reverse translation. Shifting rot1 in (-pi, pi] by pi is exact (Sterbenz) and lands
+// in [-pi/2, pi/2].
+inline OdometryIncrement odometry_chord_increment(float dx, float dy, float chord, float turn, float theta) {
+  float rot1 = fmath::normalize_angle(fmath::atan2(dy, dx) - theta);
+  float trans = chord;
+  if (rot1 > kHalfPi) {
+    rot1 -= kPi;
+    trans = -chord;
+  } else if (rot1 < -kHalfPi) {
+    rot1 += kPi;
+    trans = -chord;
+  }
+  return {rot1, trans, fmath::normalize_angle(turn - rot1)};
+}
+
 inline OdometryIncrement odometry_increment(const OdometryControl& u, const OdometryParams& p) {
   const float dx = u.odom.x - u.odom_prev.x;
   const float dy = u.odom.y - u.odom_prev.y;
@@ -90,8 +116,7 @@ inline OdometryIncrement odometry_increment(const OdometryControl& u, const Odom
     const float half = 0.5f * turn;
     return {half, trans, turn - half};
   }
-  const float rot1 = fmath::normalize_angle(fmath::atan2(dy, dx) - u.odom_prev.theta);
-  return {rot1, trans, fmath::normalize_angle(turn - rot1)};
+  return odometry_chord_increment(dx, dy, trans, turn, u.odom_prev.theta);
 }
 
 // Standard deviations of the noise on (rot1, trans, rot2): square roots of the book's variances.
@@ -164,8 +189,10 @@ inline float motion_model_odometry(const Pose2& x, const OdometryControl& u, con
   return motion_density::density_from_log(log_motion_model_odometry(x, u, x_prev, p));
 }
 
-// Table 5.5 as printed: p1 p2 p3 of the forward preimage only, a density over (rot1, trans, rot2) (1 / (m rad^2)),
-// not over the pose. For comparison with the book; use motion_model_odometry for filtering.
+// Table 5.5 as printed: p1 p2 p3 of one preimage only, a density over (rot1, trans, rot2) (1 / (m rad^2)), not
+// over the pose. Lines 5-7 read the pose pair the way lines 2-4 read the odometry (a chord behind x_prev is a reverse
+// translation), else a robot backing up would be compared with its own increment shifted by pi. For comparison with
+// the book; use motion_model_odometry for filtering.
 inline float motion_model_odometry_unnormalized(const Pose2& x, const OdometryControl& u, const Pose2& x_prev,
                                                 const OdometryParams& p) {
   using motion_density::log_prob_normal;
@@ -175,14 +202,15 @@ inline float motion_model_odometry_unnormalized(const Pose2& x, const OdometryCo
   const float dx = x.x - x_prev.x;
   const float dy = x.y - x_prev.y;
   const float rho = fmath::sqrt(dx * dx + dy * dy);
-  const float rot1_hat = fmath::atan2(dy, dx) - x_prev.theta;
-  const float rot2_hat = x.theta - x_prev.theta - rot1_hat;
-  return motion_density::density_from_log(log_prob_normal(fmath::normalize_angle(d.rot1 - rot1_hat), n.rot1) +
-                                          log_prob_normal(d.trans - rho, n.trans) +
-                                          log_prob_normal(fmath::normalize_angle(d.rot2 - rot2_hat), n.rot2));
+  const OdometryIncrement hat =
+      odometry_chord_increment(dx, dy, rho, fmath::normalize_angle(x.theta - x_prev.theta), x_prev.theta);
+  return motion_density::density_from_log(log_prob_normal(fmath::normalize_angle(d.rot1 - hat.rot1), n.rot1) +
+                                          log_prob_normal(d.trans - hat.trans, n.trans) +
+                                          log_prob_normal(fmath::normalize_angle(d.rot2 - hat.rot2), n.rot2));
 }
 
-// EKF Jacobians at the increment of u: G = dg/dx_prev, V = dg/d(rot1, trans, rot2), M = diag(variances).
+// EKF Jacobians at the increment of u (trans signed): G = dg/dx_prev, V = dg/d(rot1, trans, rot2),
+// M = diag(variances).
 inline MotionJacobians<3, 3> jacobians_motion_odometry(const Pose2& x_prev, const OdometryControl& u,
                                                        const OdometryParams& p) {
   const OdometryIncrement d = odometry_increment(u, p);
