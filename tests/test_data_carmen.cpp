@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <unistd.h>
 #include <zlib.h>
@@ -220,6 +221,39 @@ TEST_CASE("CARMEN intel: global localization from an unknown start succeeds", "[
   }
   CHECK(ok >= 1);
   CHECK(ev.global_success_rate == Approx(ok / 2.0));
+}
+
+TEST_CASE("global localization counts as localized only when the estimate holds: a find lost again is no success",
+          "[carmen]") {
+  // 60 s of scans at 10 Hz; the estimate is either on the reference or 2 m off.
+  Trajectory ref, est;
+  const auto make = [&](const std::function<bool(int)>& close) {
+    ref.clear();
+    est.clear();
+    for (int k = 0; k < 600; ++k) {
+      const std::int64_t t = static_cast<std::int64_t>(k) * 100000000;
+      ref.push_back({t, 0.01 * k, 0.0, 0.0});
+      est.push_back({t, 0.01 * k + (close(k) ? 0.1 : 2.0), 0.0, 0.0});
+    }
+  };
+  const CarmenEvalOptions o;  // within 0.5 m and 0.3 rad for 10 s, and at 90 % of the scans to the end
+  make([](int k) { return k >= 50; });  // found at 5 s, kept
+  CarmenGlobalRun g = judge_global_localization(est, ref, o);
+  CHECK(g.localized);
+  CHECK(g.time_to_localize_s == Approx(5.0));
+  CHECK(g.kept_fraction == Approx(1.0));
+  CHECK(g.after.rmse_xy_m == Approx(0.1).margin(1e-6));
+  make([](int k) { return k >= 50 && k < 80; });  // close for 3 s (30 scans), then lost again
+  CHECK_FALSE(judge_global_localization(est, ref, o).localized);
+  make([](int k) { return k >= 50 && (k < 200 || k % 3 != 0); });  // held 15 s, then off at a third of the scans
+  g = judge_global_localization(est, ref, o);
+  CHECK_FALSE(g.localized);
+  make([](int k) { return (k >= 50 && k < 80) || k >= 300; });  // a false find, then the real one at 30 s
+  g = judge_global_localization(est, ref, o);
+  CHECK(g.localized);
+  CHECK(g.time_to_localize_s == Approx(30.0));
+  make([](int k) { return k >= 595; });  // close only in the last 0.5 s: not held for 10 s
+  CHECK_FALSE(judge_global_localization(est, ref, o).localized);
 }
 
 TEST_CASE("CARMEN intel: the beam model's EM gives sane parameters and a higher likelihood", "[carmen]") {

@@ -114,9 +114,11 @@ CarmenMap build_carmen_map(const std::vector<CarmenScan>& scans, const est::Pose
 //   dead-reckoning   the raw odometry from the first corrected pose (the baseline)
 //   mcl-tracking     MCL from the first corrected pose (plain MCL unless tracking_recovery: augmented MCL's
 //                    random particles, meant for a lost robot, can pull a tracked estimate into a look-alike corridor)
-//   mcl-global       MCL from a uniform belief, at `global_starts` start times; success: within
-//                    global_success_m and global_success_rad of the reference at global_consecutive consecutive
-//                    scans; time to localize: log time from the start to the first of them
+//   mcl-global       MCL from a uniform belief, at `global_starts` start times; localized at the first scan from
+//                    which the estimate is within global_success_m and global_success_rad of the reference at every
+//                    scan of the next global_hold_s seconds and at global_kept_fraction of the scans to the end of
+//                    the run (a few close scans in a dense log, or a find lost again, is no success); time to
+//                    localize: log time from the start to that scan
 // and the beam model's parameters learned by EM (table 6.2) from the scans at the corrected poses on the map.
 struct CarmenEvalOptions {
   std::string out_dir = "eval-carmen";
@@ -143,7 +145,8 @@ struct CarmenEvalOptions {
   double global_seconds = 150.0;    // log time each global run gets
   double global_success_m = 0.5;
   double global_success_rad = 0.3;
-  int global_consecutive = 5;
+  double global_hold_s = 10.0;
+  double global_kept_fraction = 0.9;
   bool learn_beam_model = true;
   std::int32_t em_beam_stride = 4;
   bool plots = true;
@@ -161,6 +164,7 @@ struct CarmenGlobalRun {
   double start_s = 0.0;       // log time of the first scan
   bool localized = false;
   double time_to_localize_s = 0.0;
+  double kept_fraction = 0.0;  // of the scans from the localization on, those within the success bounds
   TrajectoryError after;      // from the localization on
   double run_time_s = 0.0;
 };
@@ -189,6 +193,9 @@ struct CarmenEval {
 };
 
 CarmenEval eval_carmen(const std::string& path, const CarmenEvalOptions& options);
+// mcl-global's success criterion for one run: the estimates against the reference at its scans.
+CarmenGlobalRun judge_global_localization(const Trajectory& estimates, const Trajectory& reference,
+                                          const CarmenEvalOptions& options);
 nlohmann::json to_json(const CarmenEval& e);
 
 }  // namespace sim::data

@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include "data/carmen.hpp"
 #include "data/formats.hpp"
@@ -122,29 +123,6 @@ bool close_to(const TimedPose& e, const TimedPose& r, const CarmenEvalOptions& o
          std::fabs(wrap_angle(e.theta - r.theta)) <= o.global_success_rad;
 }
 
-// The first scan from which the estimate stays close for global_consecutive scans.
-CarmenGlobalRun judge_global(const Trajectory& est, const Trajectory& ref, const CarmenEvalOptions& o) {
-  CarmenGlobalRun g;
-  g.start_s = static_cast<double>(ref.front().t_ns) * 1e-9;
-  std::map<std::int64_t, TimedPose> by_t;
-  for (const TimedPose& p : est) by_t[p.t_ns] = p;
-  const std::size_t m = static_cast<std::size_t>(std::max(1, o.global_consecutive));
-  for (std::size_t j = 0; j + m <= ref.size(); ++j) {
-    bool ok = true;
-    for (std::size_t i = j; i < j + m && ok; ++i) {
-      const auto it = by_t.find(ref[i].t_ns);
-      ok = it != by_t.end() && close_to(it->second, ref[i], o);
-    }
-    if (ok) {
-      g.localized = true;
-      g.time_to_localize_s = static_cast<double>(ref[j].t_ns - ref.front().t_ns) * 1e-9;
-      g.after = trajectory_error(est, ref, kScanGapNs, ref[j].t_ns);
-      break;
-    }
-  }
-  return g;
-}
-
 CarmenBeamModel learn_beam(const CarmenLog& log, const CarmenMap& map, const est::Pose2& mount,
                            const CarmenEvalOptions& o) {
   CarmenBeamModel b;
@@ -252,6 +230,43 @@ void write_plots(const CarmenEval& ev, const CarmenLog& log, const std::vector<T
 
 }  // namespace
 
+// The first scan from which the estimate is close at every scan of the next global_hold_s and at
+// global_kept_fraction of the scans to the end of the run (CarmenEvalOptions).
+CarmenGlobalRun judge_global_localization(const Trajectory& est, const Trajectory& ref, const CarmenEvalOptions& o) {
+  CarmenGlobalRun g;
+  g.start_s = static_cast<double>(ref.front().t_ns) * 1e-9;
+  std::map<std::int64_t, TimedPose> by_t;
+  for (const TimedPose& p : est) by_t[p.t_ns] = p;
+  const std::size_t n = ref.size();
+  std::vector<int> close(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto it = by_t.find(ref[i].t_ns);
+    close[i] = it != by_t.end() && close_to(it->second, ref[i], o) ? 1 : 0;
+  }
+  std::vector<std::size_t> close_from(n + 1, 0);  // close scans in [i, n)
+  for (std::size_t i = n; i-- > 0;) close_from[i] = close_from[i + 1] + static_cast<std::size_t>(close[i]);
+  const auto hold_ns = static_cast<std::int64_t>(o.global_hold_s * 1e9);
+  std::size_t run_end = 0;  // one past the last close scan of the run of close scans holding scan j
+  for (std::size_t j = 0; j < n; ++j) {
+    if (!close[j]) continue;
+    if (run_end <= j) {
+      run_end = j;
+      while (run_end < n && close[run_end]) ++run_end;
+    }
+    // Held for global_hold_s: the run of close scans lasts that long (a log that ends sooner confirms nothing).
+    if (ref[run_end - 1].t_ns - ref[j].t_ns < hold_ns) continue;
+    const double kept = static_cast<double>(close_from[j]) / static_cast<double>(n - j);
+    if (kept < o.global_kept_fraction) continue;
+    g.localized = true;
+    g.time_to_localize_s = static_cast<double>(ref[j].t_ns - ref.front().t_ns) * 1e-9;
+    g.kept_fraction = kept;
+    g.after = trajectory_error(est, ref, kScanGapNs, ref[j].t_ns);
+    break;
+  }
+  return g;
+}
+
+
 CarmenEval eval_carmen(const std::string& path, const CarmenEvalOptions& o) {
   fs::create_directories(o.out_dir);
   CarmenEval ev;
@@ -311,7 +326,7 @@ CarmenEval eval_carmen(const std::string& path, const CarmenEvalOptions& o) {
       const std::uint64_t seed = o.seed + 101u * static_cast<std::uint64_t>(g + 1);
       const NodeRun r = run_mcl(slice, part.reference, ev.map, ev.import, o, true, seed,
                                 (fs::path(o.out_dir) / ("mcl-global-" + std::to_string(g) + ".lcmlog")).string());
-      CarmenGlobalRun run = judge_global(r.estimates, part.reference, o);
+      CarmenGlobalRun run = judge_global_localization(r.estimates, part.reference, o);
       run.run_time_s = r.run_time_s;
       ev.global.push_back(run);
       global_estimates.push_back(r.estimates);
@@ -349,6 +364,7 @@ nlohmann::json to_json(const CarmenEval& ev) {
     global.push_back({{"start_s", g.start_s},
                       {"localized", g.localized},
                       {"time_to_localize_s", g.time_to_localize_s},
+                      {"kept_fraction", g.kept_fraction},
                       {"rmse_xy_after_m", g.after.rmse_xy_m},
                       {"rmse_theta_after_rad", g.after.rmse_theta_rad},
                       {"run_time_s", g.run_time_s}});
@@ -428,7 +444,9 @@ void add_carmen_eval(CLI::App& eval) {
   cmd->add_option("--success-m", o->global_success_m, "global: localized within this distance ...")
       ->capture_default_str();
   cmd->add_option("--success-rad", o->global_success_rad, "... and this heading ...")->capture_default_str();
-  cmd->add_option("--success-scans", o->global_consecutive, "... at this many consecutive scans")
+  cmd->add_option("--success-hold", o->global_hold_s, "... at every scan of this many seconds ...")
+      ->capture_default_str();
+  cmd->add_option("--success-kept", o->global_kept_fraction, "... and at this fraction of the scans to the run's end")
       ->capture_default_str();
   cmd->add_flag("--tracking-recovery", o->tracking_recovery, "tracking with augmented MCL's random particles");
   cmd->add_flag("--no-tracking", [o](std::int64_t) { o->tracking = false; }, "skip MCL tracking");
@@ -453,14 +471,18 @@ void add_carmen_eval(CLI::App& eval) {
     print_table(stdout, {"method", "RMSE xy (m)", "RMSE theta (rad)", "max xy (m)", "scans", "rejects", "run time (s)"},
                 rows);
     if (!ev.global.empty()) {
-      std::printf("\nglobal localization (%u particles; success: within %.2f m and %.2f rad at %d consecutive scans)\n",
-                  o->global_particles, o->global_success_m, o->global_success_rad, o->global_consecutive);
+      std::printf("\nglobal localization (%u particles; success: within %.2f m and %.2f rad for %.0f s, and at %.0f %% of "
+                  "the scans to the end)\n",
+                  o->global_particles, o->global_success_m, o->global_success_rad, o->global_hold_s,
+                  100.0 * o->global_kept_fraction);
       std::vector<std::vector<std::string>> g;
       for (const CarmenGlobalRun& r : ev.global)
         g.push_back({fixed(r.start_s, 1), r.localized ? "yes" : "no",
                      r.localized ? fixed(r.time_to_localize_s, 1) : "-",
+                     r.localized ? fixed(100.0 * r.kept_fraction, 0) + " %" : "-",
                      r.localized ? fixed(r.after.rmse_xy_m, 3) : "-", fixed(r.run_time_s, 1)});
-      print_table(stdout, {"start (s)", "localized", "time to localize (s)", "RMSE xy after (m)", "run time (s)"}, g);
+      print_table(stdout, {"start (s)", "localized", "time to localize (s)", "kept after", "RMSE xy after (m)",
+                           "run time (s)"}, g);
       std::printf("  success rate %.0f %%, mean time to localize %.1f s\n", 100.0 * ev.global_success_rate,
                   ev.global_mean_time_s);
     }
