@@ -16,6 +16,7 @@
 #include "data/channels.hpp"
 #include "data/formats.hpp"
 #include "data/line_reader.hpp"
+#include "data/tricycle_eval.hpp"
 #include "hal/lcm/channels.hpp"
 #include "node/lcm_log_io.hpp"
 
@@ -301,6 +302,15 @@ void add_tricycle_import(CLI::App& import) {
     std::printf("  EST_STEERING: a = %g * 2 pi * ticks / %lld + %g rad; the bicycle's --metres-per-tick is "
                 "Ktraction / %lld\n", s.ksteer, static_cast<long long>(r.header.steer_max), s.steer_offset,
                 static_cast<long long>(r.header.traction_max));
+    const std::vector<TricycleRecord> records = read_tricycle_log(*out);
+    if (!records.empty()) {
+      const TimedPose f = tricycle_front_wheel(records.front().tracker, s);
+      std::printf("  replay (odometry only, the front wheel): estimator_node --replay %s --model bicycle --filter ekf "
+                  "--frame-length %g --metres-per-tick %.9g --wheel-count 1 --wheel-counter-bits 32 "
+                  "--max-ticks-per-s 1000000 --steer-max 1.55 --max-steer 1.55 --initial-pose %.4f,%.4f,%.4f "
+                  "--out est.lcmlog\n", out->c_str(), s.axis_length,
+                  s.ktraction / static_cast<double>(r.header.traction_max), f.x, f.y, f.theta);
+    }
   });
 }
 

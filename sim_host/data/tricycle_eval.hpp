@@ -43,6 +43,12 @@ struct OdometryError {
 struct TricycleEval {
   TricycleImport import;
   std::string log_path;
+  // The whole log imported with the calibrated steering and replayed through estimator_node's pipeline (lockstep,
+  // the bicycle's predictions only: nothing corrects it), against the tracker, and the RMSE between that replay and
+  // tricycle_odometry over the same records (the loop's 100 Hz predictions against one step per record).
+  TrajectoryError node_after;
+  double node_vs_direct_rmse_m = 0.0;
+  std::string node_log_path;
   TricycleParams before, after;
   std::size_t fit_records = 0, held_out_records = 0;
   double split_t_s = 0.0;  // the held-out part starts here
@@ -59,6 +65,15 @@ nlohmann::json to_json(const TricycleEval& e);
 // firmware's bicycle model (est::predict_motion_bicycle) with the parameters p.
 Trajectory tricycle_odometry(const std::vector<TricycleRecord>& records, const TricycleParams& p,
                              const TricycleHeader& h, std::size_t from, std::size_t to);
+// The front wheel's pose (the bicycle's reference point) under a tracked sensor pose.
+TimedPose tricycle_front_wheel(const TimedPose& sensor, const TricycleParams& p);
+
+// The replay a user makes of an imported log (`sim_host import tricycle --calibration ...`, then estimator_node
+// --replay): node::Node with the bicycle at the front wheel (frame length axis_length, metres per tick
+// ktraction / traction_max, one 32-bit traction counter), tracking from the front wheel's pose under the tracker's
+// first pose, no landmarks; returns the sensor's trajectory.
+Trajectory tricycle_node_odometry(const std::string& log, const std::vector<TricycleRecord>& records,
+                                  const TricycleParams& p, const TricycleHeader& h, const std::string& out_log);
 OdometryError tricycle_odometry_error(const std::vector<TricycleRecord>& records, const TricycleParams& p,
                                       const TricycleHeader& h, std::size_t from, std::size_t to, int window);
 

@@ -226,9 +226,11 @@ void add_victoria_import(CLI::App& import) {
     const VictoriaImport r = import_victoria(*dir, *out, *opts, report);
     report.print_summary(stdout, "import victoria: " + r.folder + " -> " + *out);
     std::printf("  %llu events over %.1f s\n", static_cast<unsigned long long>(r.events), r.duration_s);
-    std::printf("  replay: estimator_node --replay %s --model bicycle --frame-length %.2f --metres-per-tick %g "
-                "(the pose is the front axle's middle)\n", out->c_str(), opts->geometry.wheelbase,
-                opts->metres_per_tick);
+    std::printf("  replay (dead reckoning; the pose is the front axle's middle): estimator_node --replay %s --model "
+                "bicycle --filter ekf --frame-length %.2f --metres-per-tick %g --wheel-count 1 --wheel-counter-bits 32 "
+                "--steer-max 0.8 --max-steer 0.8 --ch-landmarks EST_LANDMARKS_NOT_READ --initial-pose X,Y,THETA "
+                "--out est.lcmlog (sim_host eval victoria finds the start pose from GPS)\n", out->c_str(),
+                opts->geometry.wheelbase, opts->metres_per_tick);
   });
 }
 

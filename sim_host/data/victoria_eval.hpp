@@ -1,7 +1,9 @@
 #pragma once
 // sim_host eval victoria: EKF-SLAM of the car (the bicycle at its front axle, data/victoria.hpp) on the tree
 // detections with unknown correspondence, against GPS:
-//   dead-reckoning   the bicycle's mean over the speed and steering, from the start pose
+//   dead-reckoning   the bicycle's mean over the speed and steering, from the start pose: the imported log replayed
+//                    through estimator_node's pipeline (lockstep, predictions only: the trees are not its input),
+//                    the path a user's replay takes, and checked against the same mean integrated directly
 //   ekf-slam         est::CooperativeEkfSlam with one robot (plain EKF-SLAM, table 10.1) and gated maximum-likelihood
 //                    association (the correspondence test of table 10.2, done by maximum likelihood): each tree
 //                    detection goes to the landmark of smallest Mahalanobis distance if that is under gate_accept,
@@ -65,6 +67,7 @@ struct VictoriaEval {
   std::string log_path;
   TimedPose start;  // the front axle's start pose
   std::vector<VictoriaRun> runs;
+  double node_vs_direct_rmse_m = 0.0;  // dead reckoning: estimator_node's replay against the direct integration
   int capacity = kVictoriaLandmarks;
 };
 
