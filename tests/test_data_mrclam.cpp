@@ -157,7 +157,7 @@ TEST_CASE("MRCLAM Dataset 1, first 300 s: EKF localization within 0.15 m of Vico
     INFO("robot " << ekf.robots[a].id << ": dead reckoning " << dr.robots[a].error.rmse_xy_m << " m, EKF "
                   << ekf.robots[a].error.rmse_xy_m << " m, unknown " << unknown.robots[a].error.rmse_xy_m
                   << " m, team " << coop.robots[a].error.rmse_xy_m << " m, SLAM " << slam.robots[a].error.rmse_xy_m);
-    // Measured: EKF 0.06-0.14 m, unknown correspondence 0.06-0.17, team 0.05-0.13, SLAM 0.07-0.15.
+    // Measured: EKF 0.06-0.12 m, unknown correspondence 0.06-0.16, team 0.04-0.09, SLAM 0.07-0.12.
     CHECK(ekf.robots[a].error.n > 10000u);
     CHECK(ekf.robots[a].error.rmse_xy_m < 0.15);
     CHECK(ekf.robots[a].error.rmse_theta_rad < 0.15);
@@ -169,7 +169,7 @@ TEST_CASE("MRCLAM Dataset 1, first 300 s: EKF localization within 0.15 m of Vico
     coop_mean += coop.robots[a].error.rmse_xy_m / 5.0;
   }
   CHECK(dr_mean > 5.0 * ekf_mean);
-  CHECK(coop_mean < 0.9 * ekf_mean);  // measured 0.085 against 0.107
+  CHECK(coop_mean < 0.9 * ekf_mean);  // measured 0.072 against 0.092
   CHECK(slam.detail.find("15 landmarks mapped") != std::string::npos);
   const nlohmann::json j = to_json(ev);
   REQUIRE(j["methods"].size() == 5);
@@ -192,33 +192,41 @@ TEST_CASE("MRCLAM odometry calibration: the robots' motion follows their command
   }
 }
 
-TEST_CASE("MRCLAM Datasets 1 and 2, full runs: EKF localization tracks every robot, with or without the sensor's ids",
+TEST_CASE("MRCLAM Datasets 1 and 2, full runs: EKF localization tracks every robot, with or without the sensor's ids, "
+          "and the team does better than each alone",
           "[mrclam][eval]") {
-  // Full runs (1500 s and 1900 s) of the two EKFs, which take seconds: with the lag-calibrated odometry the
-  // known-correspondence means are 0.111 and 0.136 m (0.118 and 0.152 without the lag), and with the ambiguity
-  // test no robot is lost by maximum likelihood (worst 0.72 m; 4.8 m with table 7.3's plain maximum).
+  // Full runs (1500 s and 1900 s) of the two EKFs, which take seconds: with the lag-calibrated odometry and the
+  // camera's range noise growing with the range, the known-correspondence means are 0.101 and 0.123 m (0.111 and
+  // 0.136 with a constant 0.2 m; 0.118 and 0.152 without the lag too), every robot but robot 4 at or under 0.118 m
+  // (robot 4: 0.135 and 0.188 m, its sightings up to 78 and 129 s apart); and with the ambiguity test no robot is
+  // lost by maximum likelihood (worst 0.72 m; 4.8 m with table 7.3's plain maximum).
   for (const char* name : {"MRCLAM_Dataset1", "MRCLAM_Dataset2"}) {
     const std::string dir = test_support::dataset_or_skip(std::string("utias-mrclam/sampled-50hz/") + name);
     MrclamEvalOptions o;
     o.out_dir = temp_dir(std::string("full_") + name);
-    o.methods = {"ekf-known-landmarks", "ekf-unknown-correspondence"};
+    o.methods = {"ekf-known-landmarks", "ekf-unknown-correspondence", "cooperative-localization"};
     o.plots = false;
     o.quiet = true;
     const MrclamEval ev = eval_mrclam(dir, o);
     const MrclamMethodResult& ekf = method(ev, "ekf-known-landmarks");
     const MrclamMethodResult& unknown = method(ev, "ekf-unknown-correspondence");
+    const MrclamMethodResult& team = method(ev, "cooperative-localization");
     double ekf_mean = 0.0, unknown_mean = 0.0;
     for (std::size_t a = 0; a < 5; ++a) {
       INFO(name << " robot " << ekf.robots[a].id << ": EKF " << ekf.robots[a].error.rmse_xy_m << " m / "
                 << ekf.robots[a].error.rmse_theta_rad << " rad, unknown " << unknown.robots[a].error.rmse_xy_m);
-      CHECK(ekf.robots[a].error.rmse_xy_m < 0.21);
+      CHECK(ekf.robots[a].error.rmse_xy_m < (ekf.robots[a].id == 4 ? 0.20 : 0.125));
       CHECK(ekf.robots[a].error.rmse_theta_rad < 0.16);
       CHECK(unknown.robots[a].error.rmse_xy_m < 1.0);
+      // The team (the robots' sightings of each other shared) does better than each robot alone: measured 0.063-0.111
+      // m against 0.077-0.188 m, the closest robot 1 of Dataset 1 (0.104 against 0.110 m).
+      INFO("team " << team.robots[a].error.rmse_xy_m << " m");
+      CHECK(team.robots[a].error.rmse_xy_m < ekf.robots[a].error.rmse_xy_m);
       ekf_mean += ekf.robots[a].error.rmse_xy_m / 5.0;
       unknown_mean += unknown.robots[a].error.rmse_xy_m / 5.0;
     }
     INFO(name << ": means EKF " << ekf_mean << " m, unknown " << unknown_mean << " m");
-    CHECK(ekf_mean < 0.14);
+    CHECK(ekf_mean < 0.13);
     CHECK(unknown_mean < 0.35);
   }
 }

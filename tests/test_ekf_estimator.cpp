@@ -347,6 +347,36 @@ TEST_CASE("bad landmark features are rejected with their reason counted, and the
   CHECK(ekf.estimate().covariance(0, 0) == Approx(0.0025f));
 }
 
+TEST_CASE("a range noise that grows with the range fuses each feature with sigma_range + sigma_range_per_m * r",
+          "[ekf_estimator]") {
+  auto c = diff_config();
+  c.noise.sigma_range = 0.01f;
+  c.sigma_range_per_m = 0.05f;
+  const est::Pose2 start{3.0f, 1.0f, 0.0f};
+  // Landmark 1 at (6, 0) seen from the start: r = sqrt(10), its expected range and bearing (no innovation).
+  const float r = std::sqrt(10.0f), b = std::atan2(-1.0f, 3.0f);
+  DiffEstimator ekf(c, kMap);
+  REQUIRE(ekf.initialize_at(start, 0.3f, 0.05f));
+  REQUIRE(ekf.correct(est::loop::LandmarkInput{0, r, b, 2.0f, 1}) == est::loop::StepOutcome::applied);
+  // The same correction by the filter itself with the noise at that range: the same bits.
+  est::EkfLocalization<est::DiffDriveMotionModel> direct(c.ekf);
+  est::EkfLocalization<est::DiffDriveMotionModel>::Covariance p0 =
+      est::EkfLocalization<est::DiffDriveMotionModel>::Covariance::Zero();
+  p0.diagonal() << 0.3f * 0.3f, 0.3f * 0.3f, 0.05f * 0.05f;  // initialize_at(start, 0.3f, 0.05f)
+  REQUIRE(direct.init(start, p0));
+  est::LandmarkNoise at_r = c.noise;
+  at_r.sigma_range = 0.01f + 0.05f * r;
+  REQUIRE(est::accepted(direct.correct_range_bearing({r, b, 2.0f}, kMap, 1, at_r).status));
+  CHECK(ekf.estimate().covariance == direct.covariance());
+  // With the constant 0.01 m the same feature shrinks the variance along its line of sight (x mostly) far more: at
+  // 3.2 m it is fused with 0.168 m.
+  c.sigma_range_per_m = 0.0f;
+  DiffEstimator constant(c, kMap);
+  REQUIRE(constant.initialize_at(start, 0.3f, 0.05f));
+  REQUIRE(constant.correct(est::loop::LandmarkInput{0, r, b, 2.0f, 1}) == est::loop::StepOutcome::applied);
+  CHECK(constant.estimate().covariance(0, 0) < 0.5f * ekf.estimate().covariance(0, 0));
+}
+
 TEST_CASE("dead reckoning without sightings raises the landmark timeout and, once lost, degeneracy",
           "[ekf_estimator]") {
   auto c = diff_config();

@@ -32,6 +32,10 @@ est::VelocityParams motion_noise(const MrclamNoise& n) {
   return p;
 }
 est::LandmarkNoise camera_noise(const MrclamNoise& n) { return {n.sigma_range, n.sigma_bearing, 0.0f}; }
+// The noise of a sighting at range r for the filters that know what they see.
+est::LandmarkNoise camera_noise_at(const MrclamNoise& n, double r) {
+  return {n.range_sigma_0 + n.range_sigma_per_m * static_cast<float>(r), n.sigma_bearing, 0.0f};
+}
 
 TimedPose first_truth(const MrclamRobotLog& r) {
   if (r.truth.empty()) throw std::runtime_error("robot " + std::to_string(r.subject) + ": no ground truth");
@@ -93,6 +97,10 @@ Trajectory run_node(const MrclamEval& ev, const MrclamRobotLog& r, const std::st
   } else {
     s.filter = est::loop::Filter::ekf;
     s.landmark_ids = method != "ekf-unknown-correspondence";
+    if (s.landmark_ids) {
+      s.landmark_noise.sigma_range = o.noise.range_sigma_0;
+      s.landmark_sigma_range_per_m = o.noise.range_sigma_per_m;
+    }
   }
   node::Node n(c);
   if (n.run() != 0) throw std::runtime_error(method + ": estimator_node's replay failed for robot " +
@@ -114,7 +122,6 @@ struct TeamRun {
 TeamRun run_team(const MrclamEval& ev, const std::vector<MrclamRobotLog>& robots, bool known_landmarks,
                  const MrclamNoise& noise) {
   const int R = static_cast<int>(robots.size());
-  const est::LandmarkNoise camera = camera_noise(noise);
   TeamSlam::Params params;
   params.additive_process_noise(2, 2) = 2.0f * noise.rot_sigma * noise.rot_sigma;  // 20 ms = two 10 ms steps
   auto slam = std::make_unique<TeamSlam>(params);
@@ -165,7 +172,7 @@ TeamRun run_team(const MrclamEval& ev, const std::vector<MrclamRobotLog>& robots
            ++i) {
         const MrclamSighting& z = r.landmarks[i];
         const est::CorrectionResult c = slam->correct_landmark_range_bearing(
-            a, z.id, static_cast<float>(z.range), static_cast<float>(z.bearing), camera);
+            a, z.id, static_cast<float>(z.range), static_cast<float>(z.bearing), camera_noise_at(noise, z.range));
         (est::accepted(c.status) ? fused : rejected)++;
       }
       for (std::size_t& i = rb_i[static_cast<std::size_t>(a)]; i < r.robots.size() && r.robots[i].t_ns <= t; ++i) {
@@ -173,7 +180,7 @@ TeamRun run_team(const MrclamEval& ev, const std::vector<MrclamRobotLog>& robots
         const int b = z.id >= 1 && z.id <= kMrclamRobots ? index_of_subject[z.id] : -1;
         if (b < 0 || b == a) continue;
         const est::CorrectionResult c = slam->correct_robot_range_bearing(
-            a, b, static_cast<float>(z.range), static_cast<float>(z.bearing), camera);
+            a, b, static_cast<float>(z.range), static_cast<float>(z.bearing), camera_noise_at(noise, z.range));
         (est::accepted(c.status) ? fused : rejected)++;
       }
     }
@@ -384,7 +391,13 @@ void add_mrclam_eval(CLI::App& eval) {
   cmd->add_option("--calibrate-on", opts->calibration_dir,
                   "fit the odometry scales on this sampled-50hz folder ('auto': the other of Datasets 1 and 2; "
                   "'': none, the commanded (v, w) as they are)")->capture_default_str();
-  cmd->add_option("--sigma-range", opts->noise.sigma_range, "camera range noise (m)")->capture_default_str();
+  cmd->add_option("--sigma-range", opts->noise.sigma_range,
+                  "camera range noise (m), constant: unknown correspondence and MCL")->capture_default_str();
+  cmd->add_option("--range-sigma-0", opts->noise.range_sigma_0,
+                  "the known-landmark EKF's and the team's range noise at range 0 (m)")->capture_default_str();
+  cmd->add_option("--range-sigma-per-m", opts->noise.range_sigma_per_m,
+                  "the known-landmark EKF's and the team's range noise growth per metre of range")
+      ->capture_default_str();
   cmd->add_option("--sigma-bearing", opts->noise.sigma_bearing, "camera bearing noise (rad)")->capture_default_str();
   cmd->add_option("--ambiguity-nats", opts->noise.ambiguity_nats,
                   "unknown correspondence: refuse a sighting whose runner-up landmark is this close (log likelihood)")

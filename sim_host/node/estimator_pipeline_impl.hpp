@@ -193,6 +193,7 @@ class PipelineImpl final : public EstimatorPipeline {
       e.ekf.additive_process_noise(2, 2) = s.ekf_rot_sigma * s.ekf_rot_sigma;
       e.ekf.ambiguity_nats = s.ambiguity_nats;
       e.noise = s.landmark_noise;
+      e.sigma_range_per_m = s.landmark_sigma_range_per_m;
       e.lost_sigma_m = s.lost_sigma_m;
       e.sensor_ids = s.landmark_ids;
       return Estimator(e, maps.landmarks);

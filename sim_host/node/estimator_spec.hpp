@@ -88,6 +88,7 @@ struct EstimatorSpec {
 
   // EKF localization on landmark sightings.
   est::LandmarkNoise landmark_noise{0.05f, 0.02f, 0.0f};
+  float landmark_sigma_range_per_m = 0.0f;  // EKF: the range noise grows by this per metre of range (a camera's)
   float ekf_rot_sigma = 0.002f;  // heading noise added per prediction (rad): what the motion model leaves out
   float lost_sigma_m = 5.0f;
   bool landmark_ids = true;    // false: the sensor's landmark ids are ignored (association by maximum likelihood)

@@ -239,6 +239,9 @@ void add_options(CLI::App& app, NodeConfig& c) {
                  "x,y,signature lines (m; '#' comments); a sighting's id is the line index from 0")
       ->capture_default_str()->group(ekf);
   app.add_option("--landmark-sigma-range", e.landmark_noise.sigma_range, "landmark sensor: range noise (m)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
+  app.add_option("--landmark-sigma-range-per-m", e.landmark_sigma_range_per_m,
+                 "EKF: the range noise grows with the range, as a camera's: sigma_range + this * range (m per m)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
   app.add_option("--landmark-sigma-bearing", e.landmark_noise.sigma_bearing, "landmark sensor: bearing noise (rad)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
   app.add_option("--landmark-sigma-signature", e.landmark_noise.sigma_signature,
                  "landmark sensor: signature noise; > 0 makes signatures part of the association (0: not used)")
@@ -390,6 +393,8 @@ std::string command_line(const EstimatorSpec& e, const std::string& map, const s
     if (!e.landmark_ids) o += " --landmark-association ml";
   }
   if (e.filter == est::loop::Filter::ekf && e.ambiguity_nats > 0.0f) o += " --ambiguity-nats " + f(e.ambiguity_nats);
+  if (e.filter == est::loop::Filter::ekf && e.landmark_sigma_range_per_m > 0.0f)
+    o += " --landmark-sigma-range-per-m " + f(e.landmark_sigma_range_per_m);
   if (e.filter == est::loop::Filter::ekf) {
     o += " --ekf-rot-sigma " + f(e.ekf_rot_sigma) + " --lost-sigma " + f(e.lost_sigma_m);
   } else {

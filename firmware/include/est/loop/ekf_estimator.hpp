@@ -26,6 +26,9 @@ struct EkfEstimatorConfig {
   typename Model::Params motion{};
   typename ControlAssembler<Model>::Config control{};
   LandmarkNoise noise{};      // of the landmark sensor (sigma_signature <= 0: signatures not used)
+  // A range noise that grows with the range, as a camera's does: a feature at range r is fused with
+  // sigma_range + sigma_range_per_m * r (0: the constant noise.sigma_range).
+  float sigma_range_per_m = 0.0f;
   float lost_sigma_m = 5.0f;  // position standard deviation (the larger axis) above which the belief is degenerate
   bool sensor_ids = true;     // false: the sensor's ids are ignored, every feature is associated by table 7.3
 };
@@ -72,8 +75,11 @@ class EkfEstimator {
     if (!initialized_) return StepOutcome::rejected;
     const LandmarkMeasurement f{z.range_m, z.bearing_rad, z.signature};
     const bool known = z.id >= 0 && config_.sensor_ids;
-    const CorrectionResult r = known ? ekf_.correct_range_bearing(f, map_, z.id, config_.noise)
-                                     : ekf_.correct_range_bearing_unknown(f, map_, config_.noise).correction;
+    LandmarkNoise noise = config_.noise;
+    if (config_.sigma_range_per_m > 0.0f && z.range_m > 0.0f)
+      noise.sigma_range += config_.sigma_range_per_m * z.range_m;
+    const CorrectionResult r = known ? ekf_.correct_range_bearing(f, map_, z.id, noise)
+                                     : ekf_.correct_range_bearing_unknown(f, map_, noise).correction;
     if (!accepted(r.status)) return StepOutcome::rejected;
     return lost() ? StepOutcome::degenerate : StepOutcome::applied;
   }
