@@ -29,6 +29,7 @@
 #include "hal/socketcan/socketcan_bus.hpp"
 #include "hal/status_word.hpp"
 #include "node/lcm_log_io.hpp"
+#include "node/stamp_alignment.hpp"
 #include "world/office_map.hpp"
 
 namespace node {
@@ -113,8 +114,11 @@ class NodeOutputs final : public hal::EstimateSink {
   LogWriter* log = nullptr;
   CandumpWriter* candump = nullptr;
   hal::can::CanEstimateSink* candump_sink = nullptr;
+  const StampAlignment* sender_time = nullptr;  // live, aligned: estimates out in the sender's time
 
-  void publish(const hal::Estimate& e) override {
+  void publish(const hal::Estimate& loop_estimate) override {
+    hal::Estimate e = loop_estimate;
+    if (sender_time != nullptr) e.stamp_ns = sender_time->to_sender(e.stamp_ns);
     ++count_;
     last_ = e;
     if (lcm != nullptr) lcm->publish(e);
@@ -158,6 +162,18 @@ struct CountHook {
     ++counts[est::loop::index_of(hal::KindOfChecked<Checked>::value)];
   }
 };
+// Records the inputs in the sender's time when a live node aligns them (as its estimates are).
+struct SenderTimeRecorder {
+  InputRecorder record;
+  const StampAlignment* const* sender_time;
+  template <typename Checked>
+  void operator()(const Checked& s) {
+    if (*sender_time != nullptr)
+      record(shifted(s, -(*sender_time)->offset_ns()));
+    else
+      record(s);
+  }
+};
 // Stamps the replay's HAL clock with each raw sample's own stamp.
 struct StampHook {
   StampClock* clock;
@@ -182,12 +198,17 @@ struct Node::Impl {
         !c.can_interface.empty() || !c.replay_can_path.empty() ? hal::can::kCanWheelCounterBits
                                                                : c.lcm_wheel_counter_bits);
     pipeline = make_estimator_pipeline(spec, maps->view, sample_clock, step_clock, outputs);
+    if (!replay && c.lcm_input && c.align_stamps) {
+      alignment = std::make_unique<StampAlignment>(monotonic, spec.limits.wheels.timing, c.channels, pipeline->input());
+      // With CAN inputs besides, the node's clock is theirs (the kernel's receive time): the outputs stay on it.
+      if (c.can_interface.empty()) outputs.sender_time = alignment.get();
+    }
     counter = std::make_unique<hal::Forward<hal::ValidatedSensorPort, CountHook>>(pipeline->adapter(),
                                                                                 CountHook{to_loop});
     if (!c.record_path.empty()) {
       record_log = std::make_unique<LogWriter>(c.record_path);
-      recorder = std::make_unique<hal::Forward<hal::ValidatedSensorPort, InputRecorder>>(
-          pipeline->adapter(), InputRecorder(*record_log, c.channels));
+      recorder = std::make_unique<hal::Forward<hal::ValidatedSensorPort, SenderTimeRecorder>>(
+          pipeline->adapter(), SenderTimeRecorder{InputRecorder(*record_log, c.channels), &outputs.sender_time});
       counter->set_next(*recorder);
     }
     pipeline->set_tap(*counter);
@@ -335,7 +356,7 @@ struct Node::Impl {
       lcm_inputs = std::make_unique<hal::lcm::LcmInputs>(
           *lcm_in,
           lcm_input_config(c.can_interface.empty() ? c.lcm_wheel_counter_bits : hal::can::kCanWheelCounterBits),
-          pipeline->input());
+          alignment ? static_cast<hal::SensorPort&>(*alignment) : pipeline->input());
     }
     ::lcm::LCM* out = lcm_in.get();
     if (out == nullptr || c.lcm_out_url != c.lcm_url) {
@@ -408,6 +429,10 @@ struct Node::Impl {
                    static_cast<unsigned long long>(log_inputs), wall_s);
     else
       std::fprintf(f, "  run: wall_s=%.3f\n", wall_s);
+    if (alignment && alignment->aligned())
+      std::fprintf(f, "  stamps: aligned at the first message on %s, offset_s=%.6f streams_left=%llu\n",
+                   alignment->first_channel().c_str(), static_cast<double>(alignment->offset_ns()) * 1.0e-9,
+                   static_cast<unsigned long long>(alignment->streams_left()));
     std::string kinds, stale;
     for (const est::loop::InputKindInfo& k : est::loop::kInputKinds) {
       kinds += std::string(" ") + k.name + "=" + std::to_string(to_loop[est::loop::index_of(k.kind)]);
@@ -479,10 +504,11 @@ struct Node::Impl {
   std::uint64_t to_loop[est::loop::kInputKindCount] = {};
   std::unique_ptr<hal::Forward<hal::ValidatedSensorPort, CountHook>> counter;
   std::unique_ptr<LogWriter> record_log, out_log;
-  std::unique_ptr<hal::Forward<hal::ValidatedSensorPort, InputRecorder>> recorder;
+  std::unique_ptr<hal::Forward<hal::ValidatedSensorPort, SenderTimeRecorder>> recorder;
   std::unique_ptr<CandumpWriter> candump;
   std::unique_ptr<hal::can::CanEstimateSink> candump_sink;
   std::unique_ptr<hal::Forward<hal::SensorPort, StampHook>> stamper;
+  std::unique_ptr<StampAlignment> alignment;  // live LCM inputs onto the node's clock (--stamps align)
   // The LCM instances outlive the backend objects that subscribe on them (members are destroyed in reverse).
   std::unique_ptr<::lcm::LCM> lcm_in, lcm_out;
   std::unique_ptr<hal::lcm::LcmInputs> lcm_inputs;

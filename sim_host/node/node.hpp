@@ -7,7 +7,8 @@
 //
 // Data path: transport -> node/estimator_pipeline.hpp (hal::ValidatedInputs -> [input counter, recorder] ->
 // hal::LoopPort -> est::loop::FilterLoop) -> the outputs (LCM, CAN, log files).
-// Time: live, CAN inputs carry the kernel's receive time and LCM inputs their sender's stamp_ns, checked against
+// Time: live, CAN inputs carry the kernel's receive time and LCM inputs their sender's stamp_ns (moved onto the node's
+// clock by one offset at the first message unless --stamps sender: node/stamp_alignment.hpp), checked against
 // CLOCK_MONOTONIC; in replay the HAL's clock reads each message's own stamp (so staleness, a property of live
 // arrival that a log does not keep, never fires) and the loop's step clock stands still (no overruns, no timing
 // in the outputs): the output log is a function of the input log and the options alone.

@@ -79,9 +79,15 @@ void add_options(CLI::App& app, NodeConfig& c) {
       ->group(io);
   app.add_option("--lcm", c.lcm_url,
                  "LCM URL to read sensor messages from (est_lcm encoder_ticks_t, steering_t, twist_t, odometry_t, "
-                 "range_scan_t, landmark_sighting_t; stamped by the sender, same monotonic clock as this host) and "
-                 "to publish on")
+                 "range_scan_t, landmark_sighting_t; stamped by the sender, see --stamps) and to publish on")
       ->group(io);
+  app.add_option_function<std::string>(
+         "--stamps", [&c](const std::string& v) { c.align_stamps = v == "align"; },
+         "live LCM inputs: align (the sender's stamps mapped onto this node's clock by one offset measured at the "
+         "first message, as when lcm-logplayer plays a log at 1x; stamps already on this clock are kept; estimates "
+         "out in the sender's time, as --replay gives them, unless --can inputs share the node clock) or sender "
+         "(judged against this node's clock as sent)")
+      ->check(CLI::IsMember({"align", "sender"}))->default_str("align")->group(io);
   app.add_option("--lcm-out", c.lcm_out_url,
                  "LCM URL for the outputs (pose_estimate_t, status_t); default: --lcm's URL, else LCM's default "
                  "(udpm://239.255.76.67:7667?ttl=0 or $LCM_DEFAULT_URL)")
@@ -107,8 +113,9 @@ void add_options(CLI::App& app, NodeConfig& c) {
                  "candump log, stamped with the estimates' stamps")
       ->group(io);
   app.add_option("--record-inputs", c.record_path,
-                 "write every input handed to the filter loop, in that order and with the stamp the loop used, to "
-                 "this LCM log (replayable with --replay --wheel-counter-bits 32)")
+                 "write every input handed to the filter loop, in that order and with the stamp the loop used (in the "
+                 "sender's time when --stamps align moved it, as the estimates), to this LCM log (replayable with "
+                 "--replay --wheel-counter-bits 32)")
       ->group(io);
   app.add_option("--ch-wheel-ticks", c.channels.wheel_ticks, "LCM channel: encoder ticks in")->capture_default_str()->group(io);
   app.add_option("--ch-steering", c.channels.steering, "LCM channel: steering in")->capture_default_str()->group(io);
@@ -327,6 +334,7 @@ void finish_options(const CLI::App& app, NodeConfig& c) {
   if (c.replay() && c.out_path.empty() && c.out_can_path.empty())
     throw CLI::ValidationError("--replay", "needs --out OUT.lcmlog or --out-can OUT.candump");
   if (c.can_out && c.can_interface.empty()) throw CLI::ValidationError("--can-out", "needs --can IFACE");
+  if (app.count("--stamps") > 0 && !c.lcm_input) throw CLI::ValidationError("--stamps", "needs --lcm URL (live)");
   if (e.global == pose_given)
     throw CLI::ValidationError("initial belief", "give exactly one of --initial-pose x,y,theta and --global");
   if (e.filter == est::loop::Filter::ekf && e.global)

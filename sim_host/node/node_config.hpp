@@ -19,6 +19,12 @@ struct NodeConfig {
   std::string lcm_url;          // --lcm: inputs (and outputs unless --lcm-out)
   bool lcm_input = false;
   std::string lcm_out_url;      // --lcm-out: outputs; default --lcm's URL, else LCM's default (udpm)
+  // --stamps align|sender: live LCM inputs' stamps mapped onto the node's clock at the first message
+  // (node/stamp_alignment.hpp), or judged as sent. Align by default: a sender on this host's CLOCK_MONOTONIC passes
+  // the gate as sent and keeps its stamps (offset 0), so a robot's own drivers see no change, while a log played
+  // with lcm-logplayer (or a sender on another clock), which the gate would reject wholesale as stale, just works;
+  // `sender` is for a rig that wants a sender off the node's clock to show as stale or from-the-future rejects.
+  bool align_stamps = true;
   bool can_out = false;
   std::string replay_path;      // --replay: an LCM log
   std::string replay_can_path;  // --replay-can: a candump log of estimator.dbc frames
