@@ -228,6 +228,10 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
 
   RobotModels models = robot_models();
   models.truth.handle_detents = c.handle_detents;
+  if (!c.omni_noise.empty()) {
+    if (c.omni_noise.size() != 9) throw std::invalid_argument("the omni base's noise is a1..a9: nine numbers");
+    std::copy(c.omni_noise.begin(), c.omni_noise.end(), models.truth.omni.alpha);
+  }
   const bool bicycle = c.robot == RobotKind::bicycle;
   const bool odometry_base = has_odometry(c.robot);
   const est::sim::Route& route = *world.route;
