@@ -66,7 +66,8 @@ TEST_CASE("a malformed scenario is refused with its file, line, column and reaso
       {"[faults]\ncounts = { \"scan.vanished\" = 2 }\n", "f.toml:2:12: ", "unknown fault class 'scan.vanished'"},
       {"[robot]\nmodel = \"diff-drive\"\n[faults]\ncounts = { \"steering.nan\" = 2 }\n", "f.toml:4:12: ",
        "'steering.nan' does not apply"},
-      {"[world]\nroute = [[1, 2], [3]]\n", "f.toml:2:18: ", "each waypoint is [x, y]"},
+      {"[world]\nroute = [[1, 2], [3]]\n", "f.toml:2:18: ", "each waypoint is [x, y] or [x, y, speed_mps]"},
+      {"[world]\nroute = [[1, 2], [3, 4, 9]]\n", "f.toml:2:25: ", "a waypoint's speed must be in (0, 3] m/s"},
       {"[world]\nmap = \"office.yaml\"\n", "f.toml:2:7: ", "world.route is required with world.map"},
       {"[robot]\nomni_noise = [0.1, 0.2]\n", "f.toml:2:14: ", "robot.omni_noise: expected 9 numbers, got 2"},
       {"[filter]\nomni_noise = [1, 1, 1, 1, -1, 1, 1, 1, 1]\n", "f.toml:2:27: ", "filter.omni_noise: must be in"},
@@ -105,7 +106,7 @@ TEST_CASE("a scenario file that cannot be read is refused with its name", "[scen
 
 TEST_CASE("a file's map is found beside it and its keys reach the configuration", "[scenario]") {
   const sim::ScenarioFile f = sim::parse_scenario(
-      "seed = 7\nduration_s = 12\n[world]\nmap = \"maps/lab.yaml\"\nroute = [[1, 2], [3.5, 4]]\n"
+      "seed = 7\nduration_s = 12\n[world]\nmap = \"maps/lab.yaml\"\nroute = [[1, 2], [3.5, 4, 1.2]]\n"
       "[robot]\nmodel = \"velocity\"\nspeed_mps = 0.5\n[sensors.rangefinder]\nbeams = 180\nsigma_m = 0.05\n"
       "[filter]\nsensor_model = \"beam\"\nparticles = 5000\n[faults]\nplan = \"none\"\ncounts = { \"scan.dropped\" = 4 }\n"
       "kidnap_at_s = -1\n[metrics]\nhold_s = 1\n",
@@ -116,6 +117,8 @@ TEST_CASE("a file's map is found beside it and its keys reach the configuration"
   CHECK(f.scenario.map_yaml == "/tmp/scen/maps/lab.yaml");
   REQUIRE(f.scenario.route.size() == 2);
   CHECK(f.scenario.route[1].x == 3.5f);
+  CHECK(f.scenario.route[0].speed_mps == 0.0f);
+  CHECK(f.scenario.route[1].speed_mps == 1.2f);
   CHECK(f.scenario.robot == sim::RobotKind::velocity);
   CHECK(f.scenario.speed_mps == 0.5);
   CHECK(f.scenario.beams == 180);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -216,4 +217,26 @@ TEST_CASE("a scenario's landmark file replaces the office's posts, and the EKF t
               r.metrics.rmse_position_m);
   CHECK(r.metrics.phases.at(0).localized);
   CHECK(r.metrics.rmse_position_m < 0.15);
+}
+
+TEST_CASE("a route's waypoint speeds drive its segments at those speeds", "[sim_host_run]") {
+  // The office's route at the cruise speed, and again with every segment at half of it.
+  const std::string route = "[[5.5, 7.3{s}], [14.5, 7.3{s}], [14.5, 10.2{s}], [10.0, 10.5{s}], [9.0, 11.5{s}], "
+                            "[6.8, 11.5{s}], [5.5, 10.0{s}]]";
+  double travelled[2] = {0.0, 0.0};
+  for (int slow = 0; slow < 2; ++slow) {
+    std::string r = route;
+    for (std::size_t at; (at = r.find("{s}")) != std::string::npos;) r.replace(at, 3, slow ? ", 0.4" : "");
+    const sim::ScenarioFile f = sim::parse_scenario(
+        "duration_s = 20\n[world]\nroute = " + r + "\n[robot]\nmodel = \"diff-drive\"\nspeed_mps = 0.8\n"
+        "[filter]\nstart = \"tracking\"\n[faults]\nplan = \"none\"\nkidnap_at_s = -1\nburst_at_s = -1\n", "speeds.toml");
+    const sim::SimWorld world = sim::load_world(f.scenario);
+    const sim::SimResult res = sim::run_simulation(f.scenario, f.filter, world);
+    for (std::size_t i = 1; i < res.stream.truth.size(); ++i)
+      travelled[slow] += static_cast<double>(std::hypot(res.stream.truth[i].pose.x - res.stream.truth[i - 1].pose.x,
+                                                        res.stream.truth[i].pose.y - res.stream.truth[i - 1].pose.y));
+    CHECK(res.metrics.rmse_position_m < 0.10);
+  }
+  std::printf("20 s at 0.8 m/s: %.2f m; every segment at 0.4 m/s: %.2f m\n", travelled[0], travelled[1]);
+  CHECK(travelled[1] / travelled[0] == Approx(0.5).margin(0.05));
 }

@@ -57,7 +57,7 @@ constexpr Check kNonNegative{[](double v) { return v >= 0.0; }, "must be >= 0"};
 constexpr Check kNoise{[](double v) { return v >= 0.0 && v <= 1.0e6; }, "must be in [0, 1e6]"};
 constexpr Check kProbability{[](double v) { return v >= 0.0 && v <= 1.0; }, "must be in [0, 1]"};
 constexpr Check kFov{[](double v) { return v > 0.0 && v <= 360.0; }, "must be in (0, 360] deg"};
-constexpr Check kSpeed{[](double v) { return v > 0.0 && v <= 5.0; }, "must be in (0, 5] m/s"};
+constexpr Check kSpeed{[](double v) { return v > 0.0 && v <= 3.0; }, "must be in (0, 3] m/s"};
 constexpr Check kDuration{[](double v) { return v > 0.0 && v <= 3600.0; }, "must be in (0, 3600] s"};
 
 // One table of the file: typed reads with defaults, each key marked as read; done() refuses the keys never read.
@@ -204,16 +204,18 @@ std::vector<est::sim::Waypoint> read_route(Section& world) {
   if (a == nullptr) world.fail(*n, "world.route: expected an array of [x, y] pairs, got " + std::string(type_name(n->type())));
   for (const toml::node& p : *a) {
     const auto* xy = p.as_array();
-    if (xy == nullptr || xy->size() != 2) world.fail(p, "world.route: each waypoint is [x, y] (m, map frame)");
-    double v[2] = {0.0, 0.0};
-    for (std::size_t i = 0; i < 2; ++i) {
+    if (xy == nullptr || xy->size() < 2 || xy->size() > 3)
+      world.fail(p, "world.route: each waypoint is [x, y] or [x, y, speed_mps] (m, map frame; m/s)");
+    double v[3] = {0.0, 0.0, 0.0};
+    for (std::size_t i = 0; i < xy->size(); ++i) {
       const toml::node& c = *xy->get(i);
       if (const auto* in = c.as_integer()) v[i] = static_cast<double>(in->get());
       else if (const auto* f = c.as_floating_point()) v[i] = f->get();
       else world.fail(c, "world.route: expected a number, got " + std::string(type_name(c.type())));
       if (!std::isfinite(v[i])) world.fail(c, "world.route: must be finite");
+      if (i == 2 && !kSpeed.ok(v[i])) world.fail(c, std::string("world.route: a waypoint's speed ") + kSpeed.what);
     }
-    out.push_back({static_cast<float>(v[0]), static_cast<float>(v[1])});
+    out.push_back({static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])});
   }
   if (out.size() == 1) world.fail(*n, "world.route: needs at least two waypoints (or none: the world's own route)");
   return out;
