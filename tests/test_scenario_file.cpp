@@ -195,6 +195,10 @@ TEST_CASE("the example parses to simulate's defaults", "[scenario]") {
     CHECK(s.range_noise.p_short == d.range_noise.p_short);
     CHECK(s.handlebar == d.handlebar);
     CHECK(s.handlebar_mount.sensor_on_part.x == d.handlebar_mount.sensor_on_part.x);
+    CHECK(s.rangefinder_mount.x == d.rangefinder_mount.x);
+    CHECK(s.rangefinder_mount.y == d.rangefinder_mount.y);
+    CHECK(s.rangefinder_mount.theta == d.rangefinder_mount.theta);
+    CHECK(s.landmark_sensor.fov == Approx(d.landmark_sensor.fov));
     CHECK(s.landmark_hz == d.landmark_hz);
     CHECK(s.landmark_sensor.noise.sigma_range == d.landmark_sensor.noise.sigma_range);
     CHECK(s.landmark_sensor.noise.sigma_bearing == d.landmark_sensor.noise.sigma_bearing);

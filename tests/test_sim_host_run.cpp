@@ -240,3 +240,30 @@ TEST_CASE("a route's waypoint speeds drive its segments at those speeds", "[sim_
   std::printf("20 s at 0.8 m/s: %.2f m; every segment at 0.4 m/s: %.2f m\n", travelled[0], travelled[1]);
   CHECK(travelled[1] / travelled[0] == Approx(0.5).margin(0.05));
 }
+
+TEST_CASE("a rangefinder mounted off the reference point, and a narrow landmark sensor, are what the filters see",
+          "[sim_host_run]") {
+  // The rangefinder 0.2 m ahead and 0.1 m left of the axle midpoint, turned 0.5 rad: MCL is told the mount.
+  const sim::ScenarioFile f = sim::parse_scenario(
+      "duration_s = 20\n[robot]\nmodel = \"diff-drive\"\n[sensors.rangefinder]\nbase_pose = [0.2, 0.1, 0.5]\n"
+      "[filter]\nstart = \"tracking\"\n[faults]\nplan = \"none\"\nkidnap_at_s = -1\nburst_at_s = -1\n",
+      "mount.toml");
+  const sim::SimWorld world = sim::load_world(f.scenario);
+  const sim::SimResult r = sim::run_simulation(f.scenario, f.filter, world);
+  CHECK(r.stream.mount.theta == 0.5f);
+  std::printf("rangefinder at (0.2, 0.1, 0.5 rad): position RMSE %.3f m\n", r.metrics.rmse_position_m);
+  CHECK(r.metrics.rmse_position_m < 0.10);
+  // A landmark sensor that sees 90 deg ahead: fewer sightings than the full turn, the EKF still tracks.
+  std::uint32_t fused[2] = {0, 0};
+  for (int narrow = 0; narrow < 2; ++narrow) {
+    const sim::ScenarioFile e = sim::parse_scenario(
+        std::string("duration_s = 30\n[robot]\nmodel = \"diff-drive\"\n[sensors.landmarks]\nfov_deg = ") +
+            (narrow ? "90" : "360") + "\n[filter]\ntype = \"ekf\"\n[faults]\nplan = \"none\"\nburst_at_s = -1\n",
+        "fov.toml");
+    const sim::SimResult re = sim::run_simulation(e.scenario, e.filter, world);
+    fused[narrow] = re.ekf.accepted;
+    CHECK(re.metrics.rmse_position_m < 0.15);
+  }
+  std::printf("landmark features fused: %u over 360 deg, %u over 90 deg\n", fused[0], fused[1]);
+  CHECK(fused[1] < fused[0] / 2);
+}

@@ -16,6 +16,8 @@
 namespace sim {
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
+
 // The keys read while scenario_file_keys() parses its documents (null otherwise).
 thread_local std::set<std::string>* g_keys = nullptr;
 
@@ -290,6 +292,11 @@ void read_sensors(Section& sensors, ScenarioConfig& s) {
     rf.fail(*rf.get("mount"), "sensors.rangefinder.mount: the handlebar is the bicycle's (robot.model = 'bicycle')");
   s.handlebar_mount.sensor_on_part.x =
       rf.number_f("handlebar_offset_m", s.handlebar_mount.sensor_on_part.x, kNonNegative);
+  const std::vector<float> pose = rf.numbers("base_pose", 3, kAny);
+  if (!pose.empty()) {
+    if (s.handlebar) rf.fail(*rf.get("base_pose"), "sensors.rangefinder.base_pose: the rangefinder is on the handlebar");
+    s.rangefinder_mount = {pose[0], pose[1], pose[2]};
+  }
   rf.done();
 
   Section lm = sensors.table("landmarks");
@@ -300,6 +307,8 @@ void read_sensors(Section& sensors, ScenarioConfig& s) {
   s.landmark_sensor.noise.sigma_signature =
       lm.number_f("signature_sigma", s.landmark_sensor.noise.sigma_signature, kNonNegative);
   s.landmark_sensor.max_range = lm.number_f("max_range_m", s.landmark_sensor.max_range, kPositive);
+  const double fov_deg = lm.number("fov_deg", -1.0, kFov);  // absent: the sensor's own (a full turn), to the bit
+  if (fov_deg > 0.0) s.landmark_sensor.fov = static_cast<float>(fov_deg * kPi / 180.0);
   s.landmark_ids_known = lm.choice("ids", "known", {"known", "unknown"}) == "known";
   lm.done();
   sensors.done();

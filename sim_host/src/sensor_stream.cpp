@@ -243,7 +243,7 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
   SensorStream s;
   s.route_waypoints = route.size();
   s.end_ns = kSimStartNs + static_cast<hal::TimeNs>(steps) * kSimStepNs;
-  s.mount = c.handlebar ? est::steered_sensor_mount(c.handlebar_mount, 0.0f) : est::Pose2{0.0f, 0.0f, 0.0f};
+  s.mount = c.handlebar ? est::steered_sensor_mount(c.handlebar_mount, 0.0f) : c.rangefinder_mount;
   s.metres_per_tick = metres_per_tick(c.robot);
   // The fastest the robot is told to drive: its cruise speed or a route segment's.
   double top_speed = c.speed_mps;

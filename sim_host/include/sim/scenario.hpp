@@ -90,6 +90,7 @@ struct ScenarioConfig {
   // front wheel, the sensor 0.15 m ahead of it on the bar); otherwise fixed at the robot's reference point.
   bool handlebar = false;
   est::SteeredMount handlebar_mount{0.0f, 0.0f, {0.15f, 0.0f, 0.0f}};
+  est::Pose2 rangefinder_mount{};       // otherwise: its pose in the robot frame (m, m, rad)
   std::int32_t handle_detents = 0;      // the handlebar's positions from stop to stop (0: continuous)
   // Landmark sensor (the world's landmark map; none in a ROS map): sightings at landmark_hz, each feature with its
   // map index (landmark_ids_known) or -1 (the filter associates by maximum likelihood, with the signature).
