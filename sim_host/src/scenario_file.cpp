@@ -81,7 +81,6 @@ class Section {
     if (g_keys != nullptr && value) g_keys->insert(name(key));
     return t_ != nullptr ? t_->get(key) : nullptr;
   }
-  bool has(const char* key) const { return t_ != nullptr && t_->contains(key); }
   std::string name(const char* key) const { return path_.empty() ? std::string(key) : path_ + "." + key; }
 
   double number(const char* key, double def, Check check = kAny) {
@@ -223,10 +222,9 @@ std::vector<est::sim::Waypoint> read_route(Section& world) {
   return out;
 }
 
-void read_filter(Section& f, FilterOptions& fo, bool& start_given) {
+void read_filter(Section& f, FilterOptions& fo) {
   const std::string type = f.choice("type", "mcl", {"mcl", "ekf"});
   fo.filter = type == "ekf" ? est::loop::Filter::ekf : est::loop::Filter::mcl;
-  start_given = f.has("start");
   const std::string start = f.choice("start", type == "ekf" ? "tracking" : "global", {"global", "tracking"});
   if (type == "ekf" && start == "global")
     f.fail(*f.get("start"), "filter.start: the EKF tracks from the true start pose: 'global' needs filter.type = 'mcl'");
@@ -342,9 +340,37 @@ void read_faults(Section& f, ScenarioConfig& s, bool ekf) {
   f.done();
 }
 
+void read_team(Section& top, ScenarioFile& out) {
+  top.hint(": a team scenario reads description, seed, duration_s and [team]");
+  out.runner = ScenarioRunner::team;
+  out.scenario.seed = static_cast<std::uint64_t>(top.integer("seed", 1, 0, INT64_MAX));
+  out.team_duration_s = top.number("duration_s", -1.0, kDuration);  // absent: the team's own length
+  Section t = top.table("team");
+  out.team = t.text("scenario", "coop-slam");
+  if (!team::is_team_scenario(out.team)) {
+    std::string all;
+    for (const team::TeamScenarioInfo& i : team::team_scenarios()) all += (all.empty() ? "" : ", ") + i.name;
+    t.fail(*t.get("scenario"), "team.scenario: '" + out.team + "' is not one of " + all);
+  }
+  t.done();
+}
+
+void read_exercise(Section& top, ScenarioFile& out) {
+  top.hint(": an exercise reads description, seed and [exercise]");
+  out.runner = ScenarioRunner::exercise;
+  out.exercise_seed =
+      static_cast<std::uint64_t>(top.integer("seed", static_cast<std::int64_t>(kDefaultMotionSeed), 0, INT64_MAX));
+  if (const toml::node* d = top.get("duration_s")) top.fail(*d, "duration_s: an exercise draws samples, it has no duration");
+  Section x = top.table("exercise");
+  out.exercise = x.choice("name", "bicycle-exercise", {"bicycle-exercise"});
+  out.exercise_samples = x.integer_i("samples", out.exercise_samples, 1, 10000000);
+  x.done();
+}
+
 void read_simulate(Section& top, ScenarioFile& out) {
   ScenarioConfig& s = out.scenario;
   FilterOptions& fo = out.filter;
+  s.seed = static_cast<std::uint64_t>(top.integer("seed", static_cast<std::int64_t>(s.seed), 0, INT64_MAX));
   s.duration_s = top.number("duration_s", s.duration_s, kDuration);
 
   Section world = top.table("world");
@@ -374,8 +400,7 @@ void read_simulate(Section& top, ScenarioFile& out) {
   read_sensors(sensors, s);
 
   Section filter = top.table("filter");
-  bool start_given = false;
-  read_filter(filter, fo, start_given);
+  read_filter(filter, fo);
   if (fo.filter == est::loop::Filter::ekf && !has_landmarks(s))
     filter.fail(*filter.get("type"),
                 "filter.type: the EKF needs landmarks, and a map_server map has none (world.landmarks or the office)");
@@ -405,35 +430,9 @@ ScenarioFile parse_scenario(const std::string& text, const std::string& source) 
   out.description = top.text("description", "");
   const bool has_team = doc.contains("team"), has_exercise = doc.contains("exercise");
   if (has_team && has_exercise) top.fail(*doc.get("exercise"), "a scenario has [team] or [exercise], not both");
-  if (has_team) {
-    top.hint(": a team scenario reads description, seed, duration_s and [team]");
-    out.runner = ScenarioRunner::team;
-    out.scenario.seed = static_cast<std::uint64_t>(top.integer("seed", 1, 0, INT64_MAX));
-    if (top.has("duration_s")) out.team_duration_s = top.number("duration_s", -1.0, kDuration);
-    else top.get("duration_s");
-    Section t = top.table("team");
-    std::vector<const char*> names;
-    for (const team::TeamScenarioInfo& i : team::team_scenarios()) names.push_back(i.name.c_str());
-    out.team = t.text("scenario", "coop-slam");
-    if (!team::is_team_scenario(out.team)) {
-      std::string all;
-      for (const char* n : names) all += all.empty() ? std::string(n) : std::string(", ") + n;
-      t.fail(*t.get("scenario"), "team.scenario: '" + out.team + "' is not one of " + all);
-    }
-    t.done();
-  } else if (has_exercise) {
-    top.hint(": an exercise reads description, seed and [exercise]");
-    out.runner = ScenarioRunner::exercise;
-    out.exercise_seed = static_cast<std::uint64_t>(top.integer("seed", static_cast<std::int64_t>(kDefaultMotionSeed), 0, INT64_MAX));
-    if (const toml::node* d = top.get("duration_s")) top.fail(*d, "duration_s: an exercise draws samples, it has no duration");
-    Section x = top.table("exercise");
-    out.exercise = x.choice("name", "bicycle-exercise", {"bicycle-exercise"});
-    out.exercise_samples = x.integer_i("samples", out.exercise_samples, 1, 10000000);
-    x.done();
-  } else {
-    out.scenario.seed = static_cast<std::uint64_t>(top.integer("seed", 1, 0, INT64_MAX));
-    read_simulate(top, out);
-  }
+  if (has_team) read_team(top, out);
+  else if (has_exercise) read_exercise(top, out);
+  else read_simulate(top, out);
   top.done();
   return out;
 }
