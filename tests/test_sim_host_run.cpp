@@ -83,6 +83,10 @@ TEST_CASE("run FILE writes what simulate writes for the same options, byte for b
   std::ofstream(file) << "seed = 3\nduration_s = 20\n[robot]\nmodel = \"diff-drive\"\n[sensors.landmarks]\n"
                          "ids = \"unknown\"\n[filter]\nstart = \"tracking\"\nparticles = 2000\n[faults]\n"
                          "counts = { \"scan.dropped\" = 7 }\n";
+  const fs::path route = d.path / "route.toml";
+  std::ofstream(route) << "duration_s = 20\n[world]\nroute = [[5.5, 7.3], [14.5, 7.3, 0.5], [14.5, 10.2], "
+                          "[10, 10.5, 1.2], [9, 11.5], [6.8, 11.5], [5.5, 10]]\n[robot]\nmodel = \"velocity\"\n"
+                          "[filter]\nsensor_model = \"beam\"\nkld = false\nparticles = 3000\n[faults]\nplan = \"none\"\n";
   struct Pair {
     std::string run, simulate;
   };
@@ -91,6 +95,9 @@ TEST_CASE("run FILE writes what simulate writes for the same options, byte for b
       {"run '" + file.string() + "'",
        "simulate --robot diff-drive --seed 3 --duration 20 --landmark-ids unknown --start tracking --particles 2000 "
        "--fault scan.dropped=7"},
+      {"run '" + route.string() + "'",
+       "simulate --robot velocity --duration 20 --faults none --route '5.5,7.3;14.5,7.3,0.5;14.5,10.2;10,10.5,1.2;"
+       "9,11.5;6.8,11.5;5.5,10' --sensor-model beam --no-kld --particles 3000"},
   };
   for (const Pair& p : pairs) {
     INFO(p.run);

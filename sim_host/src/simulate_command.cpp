@@ -50,7 +50,7 @@ void add_scenario_options(CLI::App* c, ScenarioOptions& o) {
                 "posts; a ROS map has none)");
   c->add_option("--route", o.route,
                 "waypoints 'x,y;x,y;...' in the map frame, visited in a loop (required with --map; default: the "
-                "office's 24.7 m route)");
+                "office's 24.7 m route); 'x,y,speed' drives the segment from that waypoint at speed m/s");
   c->add_option("--robot", o.robot,
                 "the robot, one per motion model: bicycle (front-wheel referenced, traction encoder + steering), "
                 "diff-drive (two wheel encoders), velocity (a unicycle sending its commanded twist v, w), odometry (a "
@@ -133,12 +133,13 @@ std::vector<est::sim::Waypoint> parse_route(const std::string& text) {
   std::string item;
   while (std::getline(ss, item, ';')) {
     if (item.find_first_not_of(" \t") == std::string::npos) continue;
-    double x = 0.0, y = 0.0;
+    double x = 0.0, y = 0.0, speed = 0.0;
     char comma = 0, extra = 0;
     std::istringstream is(item);
-    if (!(is >> x >> comma >> y) || comma != ',' || (is >> extra) || !std::isfinite(x) || !std::isfinite(y))
-      throw CLI::ValidationError("--route", "expected 'x,y;x,y;...', got '" + item + "'");
-    out.push_back({static_cast<float>(x), static_cast<float>(y)});
+    bool ok = static_cast<bool>(is >> x >> comma >> y) && comma == ',' && std::isfinite(x) && std::isfinite(y);
+    if (ok && (is >> extra)) ok = extra == ',' && (is >> speed) && speed > 0.0 && speed <= 3.0 && !(is >> extra);
+    if (!ok) throw CLI::ValidationError("--route", "expected 'x,y[,speed];x,y[,speed];...' (speed in (0, 3] m/s), got '" + item + "'");
+    out.push_back({static_cast<float>(x), static_cast<float>(y), static_cast<float>(speed)});
   }
   if (out.size() < 2) throw CLI::ValidationError("--route", "needs at least two waypoints");
   return out;
