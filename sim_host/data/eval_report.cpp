@@ -1,7 +1,5 @@
 #include "data/eval_report.hpp"
 
-#include <unistd.h>
-
 #include <est_lcm/pose_estimate_t.hpp>
 #include <lcm/lcm-cpp.hpp>
 
@@ -84,27 +82,6 @@ Trajectory read_pose_estimates(const std::string& path) {
 double wall_seconds() {
   using namespace std::chrono;
   return duration<double>(steady_clock::now().time_since_epoch()).count();
-}
-
-Progress::Progress(std::string label, double total, bool quiet)
-    : label_(std::move(label)), total_(total), enabled_(!quiet && isatty(2) != 0), start_s_(wall_seconds()) {}
-
-void Progress::update(double done) {
-  if (!enabled_) return;
-  const double now = wall_seconds();
-  if (last_draw_s_ >= 0.0 && now - last_draw_s_ < 0.1) return;
-  last_draw_s_ = now;
-  const double share = total_ > 0.0 ? std::clamp(done / total_, 0.0, 1.0) : 0.0;
-  const double elapsed = now - start_s_;
-  const double eta = share > 0.0 ? elapsed * (1.0 - share) / share : 0.0;
-  std::fprintf(stderr, "\r%s: %3.0f %% (%.0f / %.0f), %.1f s, ETA %.0f s   ", label_.c_str(), 100.0 * share, done,
-               total_, elapsed, eta);
-  std::fflush(stderr);
-}
-
-void Progress::finish() {
-  if (!enabled_) return;
-  std::fprintf(stderr, "\r%s: done in %.1f s%40s\n", label_.c_str(), wall_seconds() - start_s_, "");
 }
 
 std::string fixed(double v, int decimals) {

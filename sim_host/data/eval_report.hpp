@@ -1,11 +1,13 @@
 #pragma once
 // What every evaluation on real data shares: trajectories and their errors against a reference (interpolated in
-// time), progress on a terminal for long runs, the printed table and the JSON file. Host only.
+// time), progress on a terminal for long runs (sim/progress.hpp), the printed table and the JSON file. Host only.
 #include <cstdint>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
+
+#include "sim/progress.hpp"  // Progress, shared with the simulator
 
 namespace sim::data {
 
@@ -41,20 +43,6 @@ struct ErrorSample {
 };
 std::vector<ErrorSample> error_series(const Trajectory& estimate, const Trajectory& reference,
                                       std::int64_t max_gap_ns, std::int64_t t0_ns);
-
-// Progress of a long run on stderr when it is a terminal ("label: 42 % (630 / 1500 s), 3.1 s"), quiet otherwise.
-class Progress {
- public:
-  Progress(std::string label, double total, bool quiet = false);
-  void update(double done);  // redraws at most ten times a second
-  void finish();             // the final line, then a newline
- private:
-  std::string label_;
-  double total_;
-  bool enabled_;
-  double last_draw_s_ = -1.0;
-  double start_s_;
-};
 
 // A table on stdout: a header row and right-aligned rows, column widths from the contents.
 void print_table(std::FILE* f, const std::vector<std::string>& header,

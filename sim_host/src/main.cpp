@@ -5,10 +5,13 @@
 
 #include "data/formats.hpp"
 #include "sim/commands.hpp"
+#include "sim/scenario_file.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"sim_host: host simulator and tools for the estimator firmware"};
   app.require_subcommand(1);
+  sim::add_run_command(app);
+  sim::add_list_command(app);
   sim::add_sample_motion_command(app);
   sim::add_simulate_command(app);
   sim::add_record_command(app);
@@ -19,6 +22,9 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const sim::ScenarioFileError& e) {
+    std::cerr << e.what() << "\n";  // FILE:LINE:COLUMN: reason
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "sim_host: error: " << e.what() << "\n";
     return 1;

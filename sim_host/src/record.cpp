@@ -121,16 +121,17 @@ std::string record_sidecar_json(const SensorStream& s, const ScenarioConfig& sc,
   FilterOptions mcl;
   mcl.start = StartKind::tracking;
   const std::string map = sc.map_yaml.empty() ? "office" : sc.map_yaml;
+  const std::string landmarks = sc.landmarks_csv.empty() ? "office" : sc.landmarks_csv;
   const std::string tail = " --wheel-counter-bits " + std::to_string(kEncoderCounterBits);
   j["estimator_node_options"] =
-      "--replay " + log_path + " " + node::command_line(estimator_spec(sc, mcl, s), map, "office") + tail;
-  if (s.landmark_count > 0 && sc.map_yaml.empty()) {
+      "--replay " + log_path + " " + node::command_line(estimator_spec(sc, mcl, s), map, landmarks) + tail;
+  if (s.landmark_count > 0 && has_landmarks(sc)) {
     FilterOptions ekf;
     ekf.filter = est::loop::Filter::ekf;
     ekf.start = StartKind::tracking;
     node::EstimatorSpec e = estimator_spec(sc, ekf, s);
     if (sc.landmark_ids_known) e.landmark_noise.sigma_signature = 0.0f;
-    j["estimator_node_options_ekf"] = "--replay " + log_path + " " + node::command_line(e, map, "office") + tail;
+    j["estimator_node_options_ekf"] = "--replay " + log_path + " " + node::command_line(e, map, landmarks) + tail;
   }
   j["note"] = "expected_reject_counts hold when the log is replayed through hal::ValidatedInputs with the HAL clock at "
               "each event's time (the arrival) and the loop's 20 ms reorder window; hal.* keys are hal::Fault reasons "

@@ -6,6 +6,7 @@
 
 #include "est/map/distance_transform.hpp"
 #include "est/map/occupancy_grid.hpp"
+#include "hal/maps/landmark_file.hpp"
 #include "maps/ros_map_loader.hpp"
 #include "world/office_world.hpp"
 
@@ -125,17 +126,17 @@ FaultCounts default_fault_counts(RobotKind robot, bool landmarks, bool steering_
 
 namespace {
 
-// The largest map a run loads (4 MB of grid, 8 MB of transform).
+// The largest map a run loads (4 MB of grid, 8 MB of transform), and the most landmarks (estimator_node's).
 constexpr std::int32_t kMaxSide = 2048;
+constexpr std::int32_t kMaxLandmarks = 1024;
 
 struct LoadedMap {
   est::OccupancyGridStorage<kMaxSide, kMaxSide> grid;
   est::DistanceTransformStorage<kMaxSide, kMaxSide> edt;
 };
 
-}  // namespace
-
-SimWorld load_world(const ScenarioConfig& config) {
+// The grid, its transform and the route: the office (with its landmarks) or a ROS map (none).
+SimWorld load_grid_world(const ScenarioConfig& config) {
   SimWorld w;
   if (config.map_yaml.empty()) {
     const est::sim::OfficeWorld& office = est::sim::office_world();
@@ -157,6 +158,21 @@ SimWorld load_world(const ScenarioConfig& config) {
   w.edt = m->edt.view();
   w.storage = m;
   w.route = std::make_unique<est::sim::Route>(config.route);
+  return w;
+}
+
+}  // namespace
+
+bool has_landmarks(const ScenarioConfig& config) { return config.map_yaml.empty() || !config.landmarks_csv.empty(); }
+
+SimWorld load_world(const ScenarioConfig& config) {
+  SimWorld w = load_grid_world(config);
+  if (!config.landmarks_csv.empty()) {
+    auto lm = std::make_shared<est::LandmarkMapStorage<kMaxLandmarks>>();
+    hal::maps::load_landmark_csv(config.landmarks_csv, *lm);
+    w.landmarks = lm->view();
+    w.landmark_storage = lm;
+  }
   return w;
 }
 

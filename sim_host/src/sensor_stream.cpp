@@ -228,6 +228,10 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
 
   RobotModels models = robot_models();
   models.truth.handle_detents = c.handle_detents;
+  if (!c.omni_noise.empty()) {
+    if (c.omni_noise.size() != 9) throw std::invalid_argument("the omni base's noise is a1..a9: nine numbers");
+    std::copy(c.omni_noise.begin(), c.omni_noise.end(), models.truth.omni.alpha);
+  }
   const bool bicycle = c.robot == RobotKind::bicycle;
   const bool odometry_base = has_odometry(c.robot);
   const est::sim::Route& route = *world.route;
@@ -239,21 +243,24 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
   SensorStream s;
   s.route_waypoints = route.size();
   s.end_ns = kSimStartNs + static_cast<hal::TimeNs>(steps) * kSimStepNs;
-  s.mount = c.handlebar ? est::steered_sensor_mount(c.handlebar_mount, 0.0f) : est::Pose2{0.0f, 0.0f, 0.0f};
+  s.mount = c.handlebar ? est::steered_sensor_mount(c.handlebar_mount, 0.0f) : c.rangefinder_mount;
   s.metres_per_tick = metres_per_tick(c.robot);
+  // The fastest the robot is told to drive: its cruise speed or a route segment's.
+  double top_speed = c.speed_mps;
+  for (std::size_t i = 0; i < route.size(); ++i) top_speed = std::max(top_speed, static_cast<double>(route[i].speed_mps));
   // The fastest wheel: the bicycle's front wheel at speed; a diff drive turning at 1.5 rad/s; a mecanum wheel with
   // |v1| + |v2| + (lx + ly) |w| (the omni base turns at up to 1 rad/s).
-  const double wheel_speed_max = bicycle ? c.speed_mps
+  const double wheel_speed_max = bicycle ? top_speed
                                  : c.robot == RobotKind::omni
-                                     ? 1.5 * c.speed_mps + 0.4
-                                     : c.speed_mps + 1.5 * 0.5 * static_cast<double>(models.truth.diff_drive.track_width);
+                                     ? 1.5 * top_speed + 0.4
+                                     : top_speed + 1.5 * 0.5 * static_cast<double>(models.truth.diff_drive.track_width);
   s.limits.wheels.wheel_count = c.robot == RobotKind::omni ? 4 : 2;
   s.limits.wheels.counter_bits = kEncoderCounterBits;
   s.limits.wheels.max_ticks_per_s = static_cast<std::uint32_t>(std::ceil(3.0 * wheel_speed_max / s.metres_per_tick));
   s.limits.steering.max_angle_rad = models.truth.bicycle.steer_max;
-  s.limits.twist.max_speed_mps = static_cast<float>(3.0 * c.speed_mps);
+  s.limits.twist.max_speed_mps = static_cast<float>(3.0 * top_speed);
   s.limits.twist.max_turn_rate_rps = 3.0f;
-  s.limits.odometry.max_speed_mps = static_cast<float>(3.0 * c.speed_mps);
+  s.limits.odometry.max_speed_mps = static_cast<float>(3.0 * top_speed);
   s.limits.odometry.max_turn_rate_rps = 3.0f;
   s.limits.scan.max_beams = static_cast<std::size_t>(std::max(1081, c.beams));
   s.landmark_count = static_cast<std::size_t>(world.landmarks.size());

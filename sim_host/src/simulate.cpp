@@ -52,7 +52,8 @@ ParticleSnapshot snapshot(const node::EstimatorPipeline& p, hal::TimeNs t, const
   return snap;
 }
 
-void run_stream(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorld& world, SimResult& r) {
+void run_stream(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorld& world, SimResult& r,
+                Progress* progress) {
   const SensorStream& s = r.stream;
   const bool mcl = fo.filter == est::loop::Filter::mcl;
   const node::EstimatorSpec spec = estimator_spec(sc, fo, s);
@@ -140,6 +141,7 @@ void run_stream(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorl
       case StreamKind::landmarks: in.on(s.sightings[e.sighting].view()); break;
     }
     pipeline->refresh(0, 0);
+    if (progress != nullptr) progress->update(static_cast<double>(e.arrival_ns - t0) * 1e-9);
   }
   pipeline->flush();
 
@@ -280,6 +282,10 @@ node::EstimatorSpec estimator_spec(const ScenarioConfig& sc, const FilterOptions
   e.filter = fo.filter;
   e.range_model = fo.range_model;
   e.motion = robot_models().filter;
+  if (!fo.omni_noise.empty()) {
+    if (fo.omni_noise.size() != 9) throw std::invalid_argument("the omni model's noise is a1..a9: nine numbers");
+    std::copy(fo.omni_noise.begin(), fo.omni_noise.end(), e.motion.omni.alpha);
+  }
   e.motion.bicycle_control.metres_per_tick = static_cast<float>(s.metres_per_tick);
   e.motion.bicycle_control.steering_fitted = sc.steering_sensor;
   e.motion.bicycle_control.unknown_steer_sigma = fo.unknown_steer_sigma_rad;
@@ -335,21 +341,22 @@ std::map<std::string, int> SimResult::observed_counts() const {
   return out;
 }
 
-SimResult run_simulation(const ScenarioConfig& scenario, const FilterOptions& filter, const SimWorld& world) {
+SimResult run_simulation(const ScenarioConfig& scenario, const FilterOptions& filter, const SimWorld& world,
+                         Progress* progress) {
   const auto started = std::chrono::steady_clock::now();
   SimResult r;
   r.filter = filter.filter;
   const bool ekf = filter.filter == est::loop::Filter::ekf;
   if (ekf && world.landmarks.size() == 0)
     throw std::invalid_argument("--filter ekf needs landmarks, and " + world.name +
-                                " has none (a ROS map carries no landmarks): use the synthetic office (no --map)");
+                                " has none (a ROS map carries no landmarks): use the synthetic office (no --map) or --landmarks FILE");
   if (ekf && filter.start == StartKind::global)
     throw std::invalid_argument("--filter ekf tracks from the true start pose (a Gaussian of sigma 0.2 m, 0.1 rad): "
                                 "--start global needs --filter mcl");
   r.stream = generate_stream(scenario, world);
   if (r.stream.truth.empty()) throw std::invalid_argument("the run has no steps");
   expect_loop_inputs(r.stream, !ekf, ekf);
-  run_stream(scenario, filter, world, r);
+  run_stream(scenario, filter, world, r, progress);
   r.metrics = compute_metrics(r, filter);
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return r;

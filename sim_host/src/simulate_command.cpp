@@ -2,7 +2,6 @@
 // and the firmware's filter loop, or written to an LCM log.
 #include <CLI/CLI.hpp>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -13,6 +12,8 @@
 #include "sim/commands.hpp"
 #include "sim/record.hpp"
 #include "sim/scenario.hpp"
+#include "sim/scenario_file.hpp"
+#include "sim/scenario_run.hpp"
 #include "sim/simulate.hpp"
 #include "team/team_scenarios.hpp"
 
@@ -44,9 +45,12 @@ std::string fault_help() {
 void add_scenario_options(CLI::App* c, ScenarioOptions& o) {
   ScenarioConfig& s = o.config;
   c->add_option("--map", s.map_yaml, "ROS map_server YAML (default: the synthetic office, 20 m x 15 m)");
+  c->add_option("--landmarks", s.landmarks_csv,
+                "landmarks with signatures, 'x,y,signature' per line (m), in place of the world's own (the office's 16 "
+                "posts; a ROS map has none)");
   c->add_option("--route", o.route,
                 "waypoints 'x,y;x,y;...' in the map frame, visited in a loop (required with --map; default: the "
-                "office's 24.7 m route)");
+                "office's 24.7 m route); 'x,y,speed' drives the segment from that waypoint at speed m/s");
   c->add_option("--robot", o.robot,
                 "the robot, one per motion model: bicycle (front-wheel referenced, traction encoder + steering), "
                 "diff-drive (two wheel encoders), velocity (a unicycle sending its commanded twist v, w), odometry (a "
@@ -129,12 +133,13 @@ std::vector<est::sim::Waypoint> parse_route(const std::string& text) {
   std::string item;
   while (std::getline(ss, item, ';')) {
     if (item.find_first_not_of(" \t") == std::string::npos) continue;
-    double x = 0.0, y = 0.0;
+    double x = 0.0, y = 0.0, speed = 0.0;
     char comma = 0, extra = 0;
     std::istringstream is(item);
-    if (!(is >> x >> comma >> y) || comma != ',' || (is >> extra) || !std::isfinite(x) || !std::isfinite(y))
-      throw CLI::ValidationError("--route", "expected 'x,y;x,y;...', got '" + item + "'");
-    out.push_back({static_cast<float>(x), static_cast<float>(y)});
+    bool ok = static_cast<bool>(is >> x >> comma >> y) && comma == ',' && std::isfinite(x) && std::isfinite(y);
+    if (ok && (is >> extra)) ok = extra == ',' && (is >> speed) && speed > 0.0 && speed <= 3.0 && !(is >> extra);
+    if (!ok) throw CLI::ValidationError("--route", "expected 'x,y[,speed];x,y[,speed];...' (speed in (0, 3] m/s), got '" + item + "'");
+    out.push_back({static_cast<float>(x), static_cast<float>(y), static_cast<float>(speed)});
   }
   if (out.size() < 2) throw CLI::ValidationError("--route", "needs at least two waypoints");
   return out;
@@ -150,7 +155,7 @@ ScenarioConfig finish_scenario(ScenarioOptions& o) {
   if (!(o.range_sigma > 0.0) || o.p_rand < 0.0 || o.p_short < 0.0 || o.p_rand + o.p_short > 1.0)
     throw CLI::ValidationError("--range-sigma/--p-rand/--p-short", "sigma > 0, probabilities >= 0 summing to <= 1");
   s.landmark_ids_known = o.landmark_ids == "known";
-  s.faults = o.plan == "default" ? default_fault_counts(s.robot, s.map_yaml.empty(), s.steering_sensor) : FaultCounts{};
+  s.faults = o.plan == "default" ? default_fault_counts(s.robot, has_landmarks(s), s.steering_sensor) : FaultCounts{};
   for (const std::string& f : o.fault_overrides) {
     const std::size_t eq = f.find('=');
     if (eq == std::string::npos) throw CLI::ValidationError("--fault", "expected KEY=COUNT, got '" + f + "'");
@@ -161,68 +166,6 @@ ScenarioConfig finish_scenario(ScenarioOptions& o) {
     }
   }
   return s;
-}
-
-std::string num(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
-
-void print_summary(const SimResult& r, const ScenarioConfig& sc, const SimWorld& w, const std::string& out) {
-  const SimMetrics& m = r.metrics;
-  std::cout << "simulate (" << r.description << "): " << to_string(sc.robot) << " in " << w.name << ", " << num("%.1f", sc.duration_s)
-            << " s, seed " << sc.seed << ": " << r.rows.size() << " estimates in " << num("%.1f", r.wall_s) << " s ("
-            << num("%.1f", sc.duration_s / std::max(r.wall_s, 1e-9)) << "x real time)\n";
-  for (const PhaseMetrics& p : m.phases) {
-    const bool kidnap = p.name == "kidnap recovery";
-    std::cout << "  " << p.name << " (from " << num("%.2f", p.start_s) << " s"
-              << (kidnap ? ", carried " + num("%.1f", r.stream.kidnap_distance_m) + " m" : std::string()) << "): ";
-    if (kidnap && p.lost_at_s < 0.0)
-      std::cout << "the estimate never left the bounds: NOT a loss, NOT recovered\n";
-    else if (p.localized)
-      std::cout << (kidnap ? "lost at " + num("%.2f", p.lost_at_s) + " s, " : std::string()) << "localized after "
-                << num("%.2f", p.time_to_localize_s) << " s" << (kidnap ? " from the loss" : "") << "\n";
-    else
-      std::cout << "NOT localized by " << num("%.2f", p.end_s) << " s\n";
-    if (p.localized && p.particles_mean >= 0.0)
-      std::cout << "    once localized: " << p.injected_particles << " of " << p.drawn_particles
-                << " particles drawn were injected (" << num("%.3f", 100.0 * p.injected_share)
-                << " %), particles mean " << num("%.0f", p.particles_mean) << ", max " << p.particles_max << "\n";
-  }
-  if (m.rmse_position_m >= 0.0)
-    std::cout << "  once localized (" << num("%.1f", m.localized_time_s) << " s): position RMSE "
-              << num("%.3f", m.rmse_position_m) << " m (max " << num("%.3f", m.max_position_error_m)
-              << " m), heading RMSE " << num("%.2f", m.rmse_heading_deg) << " deg (max "
-              << num("%.2f", m.max_heading_error_deg) << " deg); outside the bounds for "
-              << num("%.2f", m.outside_bounds_s) << " s\n";
-  const auto expected = r.stream.expected_counts();
-  const auto observed = r.observed_counts();
-  std::map<std::string, int> keys = expected;
-  for (const auto& kv : observed) keys[kv.first] += 0;
-  int injected = 0;
-  for (const InjectedFault& f : r.stream.faults)
-    if (f.key.rfind("event.", 0) != 0) ++injected;
-  bool match = true;
-  std::cout << "  faults: " << injected << " injected into the streams; rejects by counter (counted / injected):\n";
-  for (const auto& kv : keys) {
-    const int e = expected.count(kv.first) ? expected.at(kv.first) : 0;
-    const int o = observed.count(kv.first) ? observed.at(kv.first) : 0;
-    match = match && e == o;
-    std::cout << "    " << kv.first << std::string(kv.first.size() < 34 ? 34 - kv.first.size() : 1, ' ') << o << " / "
-              << e << (e == o ? "" : "   <-- MISMATCH") << "\n";
-  }
-  std::cout << "  every injected fault counted with its reason: " << (match ? "yes" : "NO") << "\n";
-  std::cout << "  loop: " << r.loop.predictions << " predictions, " << r.loop.corrections << " corrections; outputs "
-               "with stale inputs:";
-  for (const est::loop::InputKindInfo& k : est::loop::kInputKinds)
-    if (r.loop.of(k.kind).accepted > 0 || r.loop.of(k.kind).stale > 0) std::cout << " " << k.name << " " << r.loop.of(k.kind).stale;
-  std::cout << "; worst step " << num("%.2f", static_cast<double>(r.loop.worst_step_ns) * 1e-6) << " ms, "
-            << r.loop.overruns << " steps over their deadline (wall clock)\n";
-  if (r.filter == est::loop::Filter::mcl)
-    std::cout << "  mcl: " << r.mcl.resamplings << " resamplings drew " << r.mcl.drawn_particles << " particles, "
-              << r.mcl.injected_particles << " of them injected\n";
-  std::cout << "  outputs in " << out << "/\n";
 }
 
 }  // namespace
@@ -236,6 +179,7 @@ void add_simulate_command(CLI::App& app) {
   auto no_plots = std::make_shared<bool>(false);
   auto no_kld = std::make_shared<bool>(false);
   auto scenario = std::make_shared<std::string>();
+  auto quiet = std::make_shared<bool>(false);
   CLI::App* c = app.add_subcommand(
       "simulate",
       "Host simulation end to end: a robot drives a route in a world; encoder, steering and 2D rangefinder streams "
@@ -244,7 +188,8 @@ void add_simulate_command(CLI::App& app) {
       "process. Writes OUT/trajectory.csv (truth and estimate per output), OUT/faults.csv, OUT/metrics.json (RMSE, "
       "time to converge and to recover, rejects by reason vs injected faults, loop counters) and OUT/trajectory.png, "
       "errors.png, particles.png (MCL; the EKF draws its 2-sigma ellipses on trajectory.png). Same seed: identical "
-      "CSV.");
+      "CSV. The same runner as `sim_host run FILE` (a scenario file holds every option below: "
+      "sim_host/scenarios/example.toml).");
   c->add_option("--out", *out, "output directory (created)")->required();
   add_scenario_options(c, *opts);
   c->add_option("--filter", *filter_kind,
@@ -295,30 +240,29 @@ void add_simulate_command(CLI::App& app) {
   });
   CLI::Option* kidnap_opt = c->get_option("--kidnap-at");
   CLI::Option* duration_opt = c->get_option("--duration");
+  c->add_flag("--quiet", *quiet, "no progress line on a terminal");
   c->callback([=]() {
+    // The same runner as `sim_host run` (sim/scenario_run.hpp), configured from the options.
+    ScenarioFile f;
+    f.source = "the command line";
     if (!scenario->empty()) {
-      team::TeamRunOptions t;
-      t.scenario = *scenario;
-      t.out = *out;
-      t.seed = opts->config.seed;
-      t.duration_s = duration_opt->count() > 0 ? opts->config.duration_s : -1.0;
-      t.plots = !*no_plots;
-      team::run_team_scenario(t);
-      return;
+      f.runner = ScenarioRunner::team;
+      f.team = *scenario;
+      f.scenario.seed = opts->config.seed;
+      f.team_duration_s = duration_opt->count() > 0 ? opts->config.duration_s : -1.0;
+    } else {
+      f.scenario = finish_scenario(*opts);
+      FilterOptions& fo = f.filter;
+      fo = *filter;
+      const bool ekf = *filter_kind == "ekf";
+      fo.filter = ekf ? est::loop::Filter::ekf : est::loop::Filter::mcl;
+      if (ekf && *start == "global")
+        throw CLI::ValidationError("--start", "the EKF tracks from the true start pose: --start global needs --filter mcl");
+      fo.start = *start == "tracking" || (ekf && start->empty()) ? StartKind::tracking : StartKind::global;
+      if (ekf && kidnap_opt->count() == 0) f.scenario.kidnap_at_s = -1.0;  // an EKF cannot recover: none unless asked
+      fo.kld = !*no_kld;
     }
-    ScenarioConfig sc = finish_scenario(*opts);
-    FilterOptions fo = *filter;
-    const bool ekf = *filter_kind == "ekf";
-    fo.filter = ekf ? est::loop::Filter::ekf : est::loop::Filter::mcl;
-    if (ekf && *start == "global")
-      throw CLI::ValidationError("--start", "the EKF tracks from the true start pose: --start global needs --filter mcl");
-    fo.start = *start == "tracking" || (ekf && start->empty()) ? StartKind::tracking : StartKind::global;
-    if (ekf && kidnap_opt->count() == 0) sc.kidnap_at_s = -1.0;  // an EKF cannot recover: no kidnapping unless asked
-    fo.kld = !*no_kld;
-    const SimWorld world = load_world(sc);
-    const SimResult r = run_simulation(sc, fo, world);
-    write_simulation_outputs(r, sc, fo, world, *out, !*no_plots);
-    print_summary(r, sc, world, *out);
+    run_scenario(f, RunOptions{*out, !*no_plots, *quiet});
   });
 }
 

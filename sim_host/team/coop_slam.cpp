@@ -22,6 +22,7 @@
 #include "est/random/xoshiro128.hpp"
 #include "node/team_spec.hpp"
 #include "sim/plot.hpp"
+#include "sim/progress.hpp"
 #include "team/coop_world.hpp"
 #include "team/team_logs.hpp"
 #include "team/team_scenarios.hpp"
@@ -244,7 +245,9 @@ void run_coop_slam(const TeamRunOptions& o, bool team_of_four) {
   std::vector<std::vector<TeamMessage>> by_robot(static_cast<std::size_t>(R));
   std::vector<std::vector<Eigen::Vector2f>> truth, est_shared, est_own;
   Errors es, eo;
+  Progress progress(o.scenario, steps * static_cast<double>(w.step_s()), o.quiet, Progress::Unit::simulated_s, 2.0);
   for (std::uint32_t k = 1; k <= static_cast<std::uint32_t>(steps); ++k) {
+    progress.update(k * static_cast<double>(w.step_s()));
     const std::vector<TeamMessage> msgs = w.step(k);
     for (int a = 0; a < R; ++a) {
       by_robot[static_cast<std::size_t>(a)].push_back(msgs[static_cast<std::size_t>(a)]);
@@ -289,6 +292,7 @@ void run_coop_slam(const TeamRunOptions& o, bool team_of_four) {
     eo.nees_steps += 1;
     eo.per_step.push_back(row);
   }
+  progress.finish();
   eo.in_band /= R;  // the share over every (node, step)
 
   bool identical = true;

@@ -18,6 +18,7 @@
 
 #include "est/team/anonymous_team_mcl.hpp"
 #include "sim/plot.hpp"
+#include "sim/progress.hpp"
 #include "team/team_scenarios.hpp"
 
 namespace sim::team {
@@ -180,7 +181,9 @@ void run_diffdrive_landmarks(const TeamRunOptions& o) {
   const float m_per_tick = est::diff_drive_m_per_tick(motion);
   std::vector<est::LandmarkMeasurement> lm;
   std::vector<est::team::RobotSighting> seen;
+  Progress progress("diffdrive-landmarks", duration, o.quiet, Progress::Unit::simulated_s, 2.0);
   for (int k = 1; k <= steps; ++k) {
+    progress.update(k / kStepsPerSecond);
     for (int r = 0; r < kRobots; ++r) {
       const Loop& l = kLoops[r];
       const float w = (l.ccw ? 1.0f : -1.0f) * l.v / l.r;
@@ -228,6 +231,7 @@ void run_diffdrive_landmarks(const TeamRunOptions& o) {
     w.best = filter->belief().most_probable();
     rows.push_back(w);
   }
+  progress.finish();
 
   // trajectory.csv: t, then per robot truth (x, y, theta), estimate (x, y, theta), localized; then the belief.
   {

@@ -15,6 +15,7 @@ struct TeamRunOptions {
   std::uint64_t seed = 1;
   double duration_s = -1.0;  // negative: the scenario's own length
   bool plots = true;
+  bool quiet = false;        // no progress line on a terminal
 };
 
 struct TeamScenarioInfo {

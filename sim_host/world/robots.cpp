@@ -13,7 +13,7 @@ void unicycle_command(RouteFollower& f, const Pose2& p, float speed, float& v, f
   const Waypoint t = f.target(p.x, p.y);
   const float e = wrap_angle(std::atan2(t.y - p.y, t.x - p.x) - p.theta);
   w = std::clamp(2.5f * e, -1.5f, 1.5f);
-  v = speed * std::max(0.1f, std::cos(e));
+  v = f.speed(speed) * std::max(0.1f, std::cos(e));
 }
 
 // World-frame velocity towards the target at `speed`.
@@ -21,8 +21,8 @@ void holonomic_command(RouteFollower& f, const Pose2& p, float speed, float& vx,
   const Waypoint t = f.target(p.x, p.y);
   const float dx = t.x - p.x, dy = t.y - p.y;
   const float d = std::max(1e-6f, std::hypot(dx, dy));
-  vx = speed * dx / d;
-  vy = speed * dy / d;
+  vx = f.speed(speed) * dx / d;
+  vy = f.speed(speed) * dy / d;
 }
 
 }  // namespace
@@ -40,7 +40,7 @@ BicycleControl BicycleRobot::step(Rng& rng) {
     const float step = 2.0f * params_.steer_max / static_cast<float>(detents_ - 1);
     a = -params_.steer_max + step * std::round((a + params_.steer_max) / step);
   }
-  const BicycleControl u{speed_ * (0.4f + 0.6f * std::cos(a)), a};
+  const BicycleControl u{follower_.speed(speed_) * (0.4f + 0.6f * std::cos(a)), a};
   pose_ = BicycleMotionModel::sample(pose_, u, params_, rng);
   return u;
 }

@@ -30,4 +30,9 @@ Waypoint RouteFollower::target(float x, float y) {
   return (*route_)[next_];
 }
 
+float RouteFollower::speed(float cruise) const {
+  const float v = (*route_)[next_ + route_->size() - 1].speed_mps;
+  return v > 0.0f ? v : cruise;
+}
+
 }  // namespace est::sim

@@ -1,6 +1,7 @@
 #pragma once
-// A closed route through a world: waypoints visited in order, the last joined to the first. Start poses for runs
-// are taken on its segments, heading along them.
+// A closed route through a world: waypoints visited in order, the last joined to the first, each segment at its
+// first waypoint's speed or the robot's cruise speed. Start poses for runs are taken on its segments, heading along
+// them.
 #include <cstddef>
 #include <vector>
 
@@ -10,6 +11,7 @@ namespace est::sim {
 
 struct Waypoint {
   float x, y;
+  float speed_mps = 0.0f;  // from this waypoint to the next; 0: the robot's cruise speed
 };
 
 class Route {
@@ -33,6 +35,8 @@ class RouteFollower {
       : route_(&route), next_(next_waypoint), reach_(reach) {}
   // Advances the target if the position has reached it; returns the current target.
   Waypoint target(float x, float y);
+  // The speed of the segment being driven (its first waypoint's), or `cruise` when it names none.
+  float speed(float cruise) const;
   void set_next(std::size_t i) { next_ = i; }
   std::size_t next() const { return next_; }
   std::size_t laps() const { return next_ / route_->size(); }

@@ -13,6 +13,10 @@ void add_sample_motion_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);
 void add_record_command(CLI::App& app);
 
+// run: a scenario file, built in or from disk; list: the built-in scenarios (src/run_command.cpp).
+void add_run_command(CLI::App& app);
+void add_list_command(CLI::App& app);
+
 // learn-beam-model: EM for the beam model's intrinsic parameters from a recorded log (src/learn_beam_model_command.cpp).
 void add_learn_beam_model_command(CLI::App& app);
 

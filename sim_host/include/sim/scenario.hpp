@@ -56,11 +56,17 @@ struct ScenarioConfig {
   // World.
   std::string map_yaml;                 // empty: the synthetic office (sim_host/maps/office_map.hpp)
   std::vector<est::sim::Waypoint> route;  // empty: the world's own route (required with map_yaml)
+  // Landmarks with signatures, "x,y,signature" per line (hal/maps/landmark_file.hpp), in place of the world's own;
+  // empty: the world's (the office's 16 posts; none in a ROS map).
+  std::string landmarks_csv;
   // Robot.
   RobotKind robot = RobotKind::bicycle;
   double speed_mps = 0.8;
   double duration_s = 60.0;
   std::size_t start_segment = 0;        // the run starts at the beginning of this route segment
+  // The omni base's true noise a1..a9 per 10 ms step (est::OmniParams::alpha); empty: the simulator's
+  // (robot_models() in sim/sensor_stream.hpp).
+  std::vector<float> omni_noise;
   std::uint64_t seed = 1;
   // Sensors (rates in Hz; they must divide the 100 Hz simulation step).
   int encoder_hz = 100;
@@ -84,6 +90,7 @@ struct ScenarioConfig {
   // front wheel, the sensor 0.15 m ahead of it on the bar); otherwise fixed at the robot's reference point.
   bool handlebar = false;
   est::SteeredMount handlebar_mount{0.0f, 0.0f, {0.15f, 0.0f, 0.0f}};
+  est::Pose2 rangefinder_mount{};       // otherwise: its pose in the robot frame (m, m, rad)
   std::int32_t handle_detents = 0;      // the handlebar's positions from stop to stop (0: continuous)
   // Landmark sensor (the world's landmark map; none in a ROS map): sightings at landmark_hz, each feature with its
   // map index (landmark_ids_known) or -1 (the filter associates by maximum likelihood, with the signature).
@@ -101,12 +108,16 @@ struct ScenarioConfig {
 struct SimWorld {
   std::string name;
   std::shared_ptr<void> storage;  // the grid and transform of a loaded map (the office's are static)
+  std::shared_ptr<void> landmark_storage;  // the landmarks of a landmark file
   est::OccupancyGrid grid;
   est::DistanceTransform edt;
   est::LandmarkMap landmarks;     // the office's 16 posts; empty in a ROS map
   std::unique_ptr<est::sim::Route> route;
 };
-// The office (shared, built once) or the ROS map of the config; throws on a bad map or route.
+// Whether the world of a run has landmarks: the office's, or a landmark file's.
+bool has_landmarks(const ScenarioConfig& config);
+// The office (shared, built once) or the ROS map of the config, and the landmark file's landmarks; throws on a bad
+// map, landmark file or route.
 SimWorld load_world(const ScenarioConfig& config);
 
 using node::parse;      // RobotKind by estimator_node's --model names

@@ -19,6 +19,7 @@
 #include "hal/loop_port.hpp"
 #include "hal/sensors/range_scan/validator.hpp"
 #include "node/estimator_spec.hpp"
+#include "sim/progress.hpp"
 #include "sim/scenario.hpp"
 #include "sim/sensor_stream.hpp"
 
@@ -35,6 +36,9 @@ struct FilterOptions {
   std::int32_t handle_positions = 6;
   float handle_reading_sigma_rad = 0.05f;
   float unknown_steer_sigma_rad = 0.3f;
+  // The omni model's noise a1..a9 the filter is told, per 10 ms prediction; empty: estimator_node's default
+  // (node/estimator_spec.hpp MotionSpec).
+  std::vector<float> omni_noise;
   std::uint32_t particles = 20000;  // initial count (and the capacity's share when KLD adapts it)
   bool kld = true;
   std::uint32_t kld_min = 500;
@@ -143,8 +147,9 @@ node::EstimatorSpec estimator_spec(const ScenarioConfig& scenario, const FilterO
                                    const SensorStream& stream);
 
 // Throws std::invalid_argument on a bad configuration, e.g. the EKF with a global start or in a world without
-// landmarks.
-SimResult run_simulation(const ScenarioConfig& scenario, const FilterOptions& filter, const SimWorld& world);
+// landmarks. `progress` (optional) is told the simulated time (s from the start) as the stream is consumed.
+SimResult run_simulation(const ScenarioConfig& scenario, const FilterOptions& filter, const SimWorld& world,
+                         Progress* progress = nullptr);
 
 using node::to_string;  // of est::loop::Filter
 

@@ -1,0 +1,51 @@
+#pragma once
+// A scenario file (TOML, read with toml++): what `sim_host run` runs. One of three runners: a single robot through
+// the HAL and the filter loop (what `sim_host simulate` runs: ScenarioConfig + FilterOptions, from which
+// estimator_spec() makes the estimator's node::EstimatorSpec), a robot team (team/team_scenarios.hpp), or a motion
+// exercise (sample-motion). sim_host/scenarios/example.toml documents every key with its unit, default and meaning;
+// a key left out takes simulate's default. Host only (throws).
+#include <cstdint>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include "sim/scenario.hpp"
+#include "sim/simulate.hpp"
+
+namespace sim {
+
+enum class ScenarioRunner { simulate, team, exercise };
+
+struct ScenarioFile {
+  std::string source;       // the file it was read from (or the built-in's repository path)
+  std::string description;  // one line, for `sim_host list`
+  ScenarioRunner runner = ScenarioRunner::simulate;
+  // simulate
+  ScenarioConfig scenario;
+  FilterOptions filter;
+  // team: one of team::team_scenarios(), with scenario.seed and team_duration_s (negative: the team's own length)
+  std::string team;
+  double team_duration_s = -1.0;
+  // exercise: sample-motion's bicycle-exercise, its seed and samples per case
+  std::string exercise;
+  std::uint64_t exercise_seed = 0;
+  int exercise_samples = 5000;
+};
+
+// A refused file: what() is "FILE:LINE:COLUMN: reason" (nothing runs).
+class ScenarioFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Parses `text` as the scenario file `source` (the name errors give; relative map paths are taken from its folder).
+// Throws ScenarioFileError on malformed TOML, an unknown key, a value of the wrong type or out of range, or keys
+// that contradict each other (e.g. --handlebar on a robot that is not the bicycle).
+ScenarioFile parse_scenario(const std::string& text, const std::string& source);
+// Reads and parses a file from disk; ScenarioFileError also when it cannot be read.
+ScenarioFile read_scenario_file(const std::string& path);
+
+// Every key the parser knows, as dotted paths ("sensors.rangefinder.hz"), over all three runners.
+std::set<std::string> scenario_file_keys();
+
+}  // namespace sim

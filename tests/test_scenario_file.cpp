@@ -1,0 +1,270 @@
+// Scenario files (sim/scenario_file.hpp, sim/builtin_scenarios.hpp): TOML into the runners' configurations, the
+// refusals located by line and column, the annotated example documenting every key at simulate's defaults, and the
+// built-in scenarios.
+#include <catch2/catch.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "sim/builtin_scenarios.hpp"
+#include "sim/scenario_file.hpp"
+#include "sim/sensor_stream.hpp"
+
+namespace {
+
+// The refusal's message, or "" when the text parses.
+std::string refusal(const std::string& text) {
+  try {
+    sim::parse_scenario(text, "f.toml");
+  } catch (const sim::ScenarioFileError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The keys a file documents: `key = ...` lines, commented out or not, under their [table] headers.
+std::set<std::string> documented_keys(const std::string& text) {
+  std::set<std::string> keys;
+  std::istringstream in(text);
+  std::string line, table;
+  const std::regex header(R"(^\[([a-z_.-]+)\]\s*$)"), assignment(R"(^([a-z_0-9]+)\s*=)");
+  while (std::getline(in, line)) {
+    std::size_t i = line.find_first_not_of(" \t#");
+    if (i == std::string::npos) continue;
+    const std::string body = line.substr(i);
+    std::smatch m;
+    if (std::regex_match(body, m, header)) table = m[1];
+    else if (std::regex_search(body, m, assignment)) keys.insert(table.empty() ? m[1].str() : table + "." + m[1].str());
+  }
+  return keys;
+}
+
+}  // namespace
+
+TEST_CASE("a malformed scenario is refused with its file, line, column and reason", "[scenario]") {
+  struct Case {
+    const char* text;
+    const char* where;   // FILE:LINE:COLUMN
+    const char* reason;  // part of the reason
+  };
+  const Case cases[] = {
+      {"seed = 1\n[robot]\nmodel = \"tank\"\n", "f.toml:3:9: ", "robot.model: 'tank' is not one of bicycle"},
+      {"[sensors.rangefinder]\nhz = 10\nbeems = 360\n", "f.toml:3:1: ", "unknown key 'sensors.rangefinder.beems'"},
+      {"duration_s = \"long\"\n", "f.toml:1:14: ", "duration_s: expected a number, got a string"},
+      {"duration_s = -5\n", "f.toml:1:14: ", "duration_s: must be in (0, 3600] s"},
+      {"[sensors.rangefinder]\nhz = 7\n", "f.toml:2:6: ", "must divide the 100 Hz simulation step"},
+      {"[filter]\nparticles = 2.5\n", "f.toml:2:13: ", "filter.particles: expected an integer, got a float"},
+      {"[filter]\nparticles = 50000\n", "f.toml:2:13: ", "filter.particles: must be in [1, 20000]"},
+      {"[filter]\ntype = \"ekf\"\nstart = \"global\"\n", "f.toml:3:9: ", "the EKF tracks from the true start"},
+      {"[robot]\nmodel = \"diff-drive\"\n[sensors.rangefinder]\nmount = \"handlebar\"\n", "f.toml:4:9: ",
+       "the handlebar is the bicycle's"},
+      {"[faults]\ncounts = { \"scan.vanished\" = 2 }\n", "f.toml:2:12: ", "unknown fault class 'scan.vanished'"},
+      {"[robot]\nmodel = \"diff-drive\"\n[faults]\ncounts = { \"steering.nan\" = 2 }\n", "f.toml:4:12: ",
+       "'steering.nan' does not apply"},
+      {"[world]\nroute = [[1, 2], [3]]\n", "f.toml:2:18: ", "each waypoint is [x, y] or [x, y, speed_mps]"},
+      {"[world]\nroute = [[1, 2], [3, 4, 9]]\n", "f.toml:2:25: ", "a waypoint's speed must be in (0, 3] m/s"},
+      {"[world]\nmap = \"office.yaml\"\n", "f.toml:2:7: ", "world.route is required with world.map"},
+      {"[robot]\nomni_noise = [0.1, 0.2]\n", "f.toml:2:14: ", "robot.omni_noise: expected 9 numbers, got 2"},
+      {"[filter]\nomni_noise = [1, 1, 1, 1, -1, 1, 1, 1, 1]\n", "f.toml:2:27: ", "filter.omni_noise: must be in"},
+      {"robot = 3\n", "f.toml:1:9: ", "robot: expected a table, got an integer"},
+      {"[team]\nscenario = \"coop-slam\"\n[robot]\nmodel = \"omni\"\n", "f.toml:3:2: ",
+       "unknown key 'robot': a team scenario reads description, seed, duration_s and [team]"},
+      {"[team]\nscenario = \"solo\"\n", "f.toml:2:12: ", "team.scenario: 'solo' is not one of coop-slam"},
+      {"[exercise]\nname = \"bicycle-exercise\"\n", "", ""},  // parses
+      {"seed = 1\nseed = 2\n", "f.toml:2:", "cannot redefine existing integer 'seed'"},
+      {"[robot\nmodel = \"bicycle\"\n", "f.toml:1:", ""},
+      {"description = \"unterminated\n", "f.toml:1:", ""},
+  };
+  for (const Case& c : cases) {
+    INFO(c.text);
+    const std::string e = refusal(c.text);
+    INFO(e);
+    if (std::string(c.where).empty()) {
+      CHECK(e.empty());
+      continue;
+    }
+    CHECK(e.rfind(c.where, 0) == 0);
+    CHECK(e.find(c.reason) != std::string::npos);
+    CHECK(e.find('\n') == std::string::npos);  // one line
+  }
+}
+
+TEST_CASE("a scenario file that cannot be read is refused with its name", "[scenario]") {
+  try {
+    sim::read_scenario_file("/nonexistent/scenario.toml");
+    FAIL("read");
+  } catch (const sim::ScenarioFileError& e) {
+    CHECK(std::string(e.what()).rfind("/nonexistent/scenario.toml:1:1: ", 0) == 0);
+  }
+  CHECK_THROWS_WITH(sim::load_scenario("no-such-scenario"), Catch::Contains("neither a built-in scenario"));
+}
+
+TEST_CASE("a file's map is found beside it and its keys reach the configuration", "[scenario]") {
+  const sim::ScenarioFile f = sim::parse_scenario(
+      "seed = 7\nduration_s = 12\n[world]\nmap = \"maps/lab.yaml\"\nroute = [[1, 2], [3.5, 4, 1.2]]\n"
+      "[robot]\nmodel = \"velocity\"\nspeed_mps = 0.5\n[sensors.rangefinder]\nbeams = 180\nsigma_m = 0.05\n"
+      "[filter]\nsensor_model = \"beam\"\nparticles = 5000\n[faults]\nplan = \"none\"\ncounts = { \"scan.dropped\" = 4 }\n"
+      "kidnap_at_s = -1\n[metrics]\nhold_s = 1\n",
+      "/tmp/scen/lab.toml");
+  CHECK(f.runner == sim::ScenarioRunner::simulate);
+  CHECK(f.scenario.seed == 7u);
+  CHECK(f.scenario.duration_s == 12.0);
+  CHECK(f.scenario.map_yaml == "/tmp/scen/maps/lab.yaml");
+  REQUIRE(f.scenario.route.size() == 2);
+  CHECK(f.scenario.route[1].x == 3.5f);
+  CHECK(f.scenario.route[0].speed_mps == 0.0f);
+  CHECK(f.scenario.route[1].speed_mps == 1.2f);
+  CHECK(f.scenario.robot == sim::RobotKind::velocity);
+  CHECK(f.scenario.speed_mps == 0.5);
+  CHECK(f.scenario.beams == 180);
+  CHECK(f.scenario.range_noise.sigma == 0.05f);
+  CHECK(f.filter.range_model == node::RangeModel::beam);
+  CHECK(f.filter.particles == 5000u);
+  CHECK(f.scenario.faults == sim::FaultCounts{{"scan.dropped", 4}});
+  CHECK(f.scenario.kidnap_at_s < 0.0);
+  CHECK(f.filter.hold_s == 1.0);
+}
+
+TEST_CASE("an EKF scenario has no kidnapping and a tracking start unless asked, as simulate", "[scenario]") {
+  const sim::ScenarioFile f = sim::parse_scenario("[filter]\ntype = \"ekf\"\n", "ekf.toml");
+  CHECK(f.filter.filter == est::loop::Filter::ekf);
+  CHECK(f.filter.start == sim::StartKind::tracking);
+  CHECK(f.scenario.kidnap_at_s < 0.0);
+  const sim::ScenarioFile g = sim::parse_scenario("[filter]\ntype = \"ekf\"\n[faults]\nkidnap_at_s = 20\n", "ekf.toml");
+  CHECK(g.scenario.kidnap_at_s == 20.0);
+}
+
+TEST_CASE("the example documents every key the parser knows, and only those", "[scenario]") {
+  const sim::BuiltinScenario* example = sim::find_builtin_scenario("example");
+  REQUIRE(example != nullptr);
+  const std::set<std::string> known = sim::scenario_file_keys();
+  const std::set<std::string> documented = documented_keys(example->text);
+  CHECK(known.size() > 60);
+  for (const std::string& k : known) {
+    INFO("key " << k);
+    CHECK(documented.count(k) == 1);
+  }
+  for (const std::string& k : documented) {
+    INFO("documented key " << k);
+    CHECK(known.count(k) == 1);
+  }
+}
+
+TEST_CASE("the example parses to simulate's defaults", "[scenario]") {
+  const sim::BuiltinScenario* example = sim::find_builtin_scenario("example");
+  REQUIRE(example != nullptr);
+  const sim::ScenarioFile f = sim::parse_scenario(example->text, example->path);
+  const sim::ScenarioFile empty = sim::parse_scenario("", "empty.toml");
+  const sim::ScenarioConfig d;  // simulate's option defaults
+  const sim::FilterOptions fd;
+  for (const sim::ScenarioFile* p : {&f, &empty}) {
+    const sim::ScenarioConfig& s = p->scenario;
+    const sim::FilterOptions& o = p->filter;
+    CHECK(p->runner == sim::ScenarioRunner::simulate);
+    CHECK(s.seed == d.seed);
+    CHECK(s.duration_s == d.duration_s);
+    CHECK(s.map_yaml == d.map_yaml);
+    CHECK(s.route.empty());
+    CHECK(s.robot == d.robot);
+    CHECK(s.speed_mps == d.speed_mps);
+    CHECK(s.start_segment == d.start_segment);
+    CHECK(s.handle_detents == d.handle_detents);
+    CHECK(s.encoder_hz == d.encoder_hz);
+    CHECK(s.encoder_scale_error == d.encoder_scale_error);
+    CHECK(s.encoder_noise == d.encoder_noise);
+    CHECK(s.slip_events == d.slip_events);
+    CHECK(s.slip_duration_s == d.slip_duration_s);
+    CHECK(s.slip_factor == d.slip_factor);
+    CHECK(s.steering_sensor == d.steering_sensor);
+    CHECK(s.steering_hz == d.steering_hz);
+    CHECK(s.steering_sigma_deg == d.steering_sigma_deg);
+    CHECK(s.steering_bias_deg == d.steering_bias_deg);
+    CHECK(s.twist_hz == d.twist_hz);
+    CHECK(s.odometry_hz == d.odometry_hz);
+    CHECK(s.scan_hz == d.scan_hz);
+    CHECK(s.beams == d.beams);
+    CHECK(s.fov_deg == d.fov_deg);
+    CHECK(s.range_max_m == d.range_max_m);
+    CHECK(s.range_noise.sigma == d.range_noise.sigma);
+    CHECK(s.range_noise.p_rand == d.range_noise.p_rand);
+    CHECK(s.range_noise.p_short == d.range_noise.p_short);
+    CHECK(s.handlebar == d.handlebar);
+    CHECK(s.handlebar_mount.sensor_on_part.x == d.handlebar_mount.sensor_on_part.x);
+    CHECK(s.rangefinder_mount.x == d.rangefinder_mount.x);
+    CHECK(s.rangefinder_mount.y == d.rangefinder_mount.y);
+    CHECK(s.rangefinder_mount.theta == d.rangefinder_mount.theta);
+    CHECK(s.landmark_sensor.fov == Approx(d.landmark_sensor.fov));
+    CHECK(s.landmark_hz == d.landmark_hz);
+    CHECK(s.landmark_sensor.noise.sigma_range == d.landmark_sensor.noise.sigma_range);
+    CHECK(s.landmark_sensor.noise.sigma_bearing == d.landmark_sensor.noise.sigma_bearing);
+    CHECK(s.landmark_sensor.noise.sigma_signature == d.landmark_sensor.noise.sigma_signature);
+    CHECK(s.landmark_sensor.max_range == d.landmark_sensor.max_range);
+    CHECK(s.landmark_ids_known == d.landmark_ids_known);
+    CHECK(s.faults == sim::default_fault_counts(d.robot, true, true));  // simulate's --faults default
+    CHECK(s.kidnap_at_s == d.kidnap_at_s);
+    CHECK(s.burst_at_s == d.burst_at_s);
+    CHECK(s.burst_ms == d.burst_ms);
+    CHECK(o.filter == fd.filter);
+    CHECK(o.start == fd.start);
+    CHECK(o.range_model == fd.range_model);
+    CHECK(o.particles == fd.particles);
+    CHECK(o.kld == fd.kld);
+    CHECK(o.kld_min == fd.kld_min);
+    CHECK(o.beam_stride == fd.beam_stride);
+    CHECK(o.handle_positions == fd.handle_positions);
+    CHECK(o.handle_reading_sigma_rad == fd.handle_reading_sigma_rad);
+    CHECK(o.unknown_steer_sigma_rad == fd.unknown_steer_sigma_rad);
+    CHECK(o.clearance_m == fd.clearance_m);
+    CHECK(o.alpha_slow == fd.alpha_slow);
+    CHECK(o.alpha_fast == fd.alpha_fast);
+    CHECK(o.max_injection == fd.max_injection);
+    CHECK(o.ekf_start_sigma_xy_m == fd.ekf_start_sigma_xy_m);
+    CHECK(o.ekf_start_sigma_theta_rad == fd.ekf_start_sigma_theta_rad);
+    CHECK(o.ekf_rot_sigma_rad == fd.ekf_rot_sigma_rad);
+    CHECK(o.ekf_lost_sigma_m == fd.ekf_lost_sigma_m);
+    CHECK(o.converge_pos_m == fd.converge_pos_m);
+    CHECK(o.converge_heading_deg == fd.converge_heading_deg);
+    CHECK(o.hold_s == fd.hold_s);
+  }
+  // The omni noise: the example writes out the simulator's and estimator_node's, the empty file leaves them.
+  const sim::RobotModels models = sim::robot_models();
+  CHECK(empty.scenario.omni_noise.empty());
+  CHECK(empty.filter.omni_noise.empty());
+  CHECK(f.scenario.omni_noise == std::vector<float>(models.truth.omni.alpha, models.truth.omni.alpha + 9));
+  CHECK(f.filter.omni_noise == std::vector<float>(models.filter.omni.alpha, models.filter.omni.alpha + 9));
+}
+
+TEST_CASE("every built-in scenario parses, describes itself and is the file in the repository", "[scenario]") {
+  const std::set<std::string> expected = {"bicycle-exercise", "bicycle-rangefinder", "coop-slam",   "coop-slam-team",
+                                          "diffdrive-landmarks", "example",          "kidnapped", "omni-velocity"};
+  std::set<std::string> names;
+  for (const sim::BuiltinScenario& b : sim::builtin_scenarios()) {
+    INFO(b.name);
+    names.insert(b.name);
+    const sim::ScenarioFile f = sim::parse_scenario(b.text, b.path);
+    CHECK(!f.description.empty());
+    CHECK(f.description.find('\n') == std::string::npos);
+    // The embedded text is the repository's file.
+    std::ifstream in(std::string(SIM_SCENARIOS_DIR) + "/" + b.name + ".toml", std::ios::binary);
+    REQUIRE(in);
+    std::ostringstream s;
+    s << in.rdbuf();
+    CHECK(s.str() == b.text);
+  }
+  CHECK(names == expected);
+  CHECK(sim::load_scenario("coop-slam").runner == sim::ScenarioRunner::team);
+  CHECK(sim::load_scenario("bicycle-exercise").runner == sim::ScenarioRunner::exercise);
+  CHECK(sim::load_scenario("bicycle-rangefinder").filter.range_model == node::RangeModel::steered);
+  // A FILE is read from disk.
+  const std::string path = (std::filesystem::temp_directory_path() / "scenario_file_test.toml").string();
+  std::ofstream(path) << "seed = 9\n[robot]\nmodel = \"holonomic\"\n";
+  const sim::ScenarioFile f = sim::load_scenario(path);
+  CHECK(f.scenario.seed == 9u);
+  CHECK(f.scenario.robot == sim::RobotKind::holonomic);
+  std::filesystem::remove(path);
+}
