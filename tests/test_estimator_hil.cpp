@@ -37,31 +37,6 @@ const std::string kDir = "/tmp/est_hil";
 
 std::string path(const std::string& name) { return kDir + "/" + name; }
 
-pid_t spawn(const std::string& cmd) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    execl("/bin/sh", "sh", "-c", ("exec " + cmd).c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  return pid;
-}
-
-int stop(pid_t pid, int sig) {
-  kill(pid, sig);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-bool wait_for_text(const std::string& file, const std::string& text, double seconds) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-  while (std::chrono::steady_clock::now() < end) {
-    if (read_text(file).find(text) != std::string::npos) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  return false;
-}
-
 std::string node_options(const OfficeStream& s) {
   char pose[96];
   std::snprintf(pose, sizeof pose, "%.6f,%.6f,%.6f", static_cast<double>(s.start.x), static_cast<double>(s.start.y),

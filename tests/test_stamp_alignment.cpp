@@ -154,31 +154,6 @@ namespace {
 const std::string kNode = ESTIMATOR_NODE_EXE;
 const std::string kSim = SIM_HOST_EXE;
 
-pid_t spawn(const std::string& cmd) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    execl("/bin/sh", "sh", "-c", ("exec " + cmd).c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  return pid;
-}
-
-int stop(pid_t pid, int sig) {
-  kill(pid, sig);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-bool wait_for_text(const std::string& file, const std::string& text, double seconds) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-  while (std::chrono::steady_clock::now() < end) {
-    if (read_text(file).find(text) != std::string::npos) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  return false;
-}
-
 // Whether LCM udpm on `url` delivers here: an instance hears its own messages through multicast loopback.
 bool udpm_works(const std::string& url) {
   ::lcm::LCM lcm(url);

@@ -1,9 +1,12 @@
 #pragma once
 // Helpers for the tests that run estimator_node as a process (tests/test_estimator_node.cpp, the VM test
-// tests/test_estimator_hil.cpp): running a command with its output captured, reading the node's summary, and
+// tests/test_estimator_hil.cpp, tests/test_stamp_alignment.cpp): starting and stopping one, running a command with its output captured, reading the node's summary, and
 // reading and comparing the estimates in LCM logs. Host only.
+#include <signal.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -13,6 +16,7 @@
 #include <lcm/lcm-cpp.hpp>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <est_lcm/pose_estimate_t.hpp>
@@ -26,6 +30,34 @@ inline std::string read_text(const std::string& path) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+// Starts `cmd` through sh (exec'd, so the pid is the command's) without waiting for it.
+inline pid_t spawn(const std::string& cmd) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    execl("/bin/sh", "sh", "-c", ("exec " + cmd).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  return pid;
+}
+
+// Sends `sig` to a spawned process and reaps it; its exit status (-1: killed by a signal).
+inline int stop(pid_t pid, int sig) {
+  kill(pid, sig);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Whether `text` appears in `file` within `seconds` (polled every 20 ms).
+inline bool wait_for_text(const std::string& file, const std::string& text, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < end) {
+    if (read_text(file).find(text) != std::string::npos) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
 }
 
 // Runs `cmd` through sh with stdout and stderr into `output_path`; returns the exit status (-1: killed).
