@@ -1,6 +1,8 @@
 // The live view as Foxglove Studio sees it: @foxglove/ws-protocol's FoxgloveClient subscribes to every channel
-// while estimator_node replays a 20 s log at 4x (--view-wait: the replay starts once we subscribed), then checks
-// the advertised channels and their schemas, and that the estimates track the ground truth messages.
+// while estimator_node runs a 20 s log, then checks the advertised channels and their schemas, and that the
+// estimates track the ground truth messages. --mode replay: the node replays the log at 4x (--view-wait: once we
+// subscribed); --mode live: a live node on LCM (--url) and lcm-logplayer playing the log into it at 1x.
+import { spawn } from "node:child_process";
 import foxglove from "@foxglove/ws-protocol";
 import WebSocket from "ws";
 import { args, fail, freePort, replayOptions, startNode } from "./view_run.mjs";
@@ -8,9 +10,11 @@ import { args, fail, freePort, replayOptions, startNode } from "./view_run.mjs";
 const { FoxgloveClient } = foxglove;
 const a = args();
 const { log, rest } = replayOptions(a.options);
+const live = a.mode === "live";
 const port = await freePort();
-const node = await startNode(a.node, ["--replay", log, "--view", String(port), "--view-wait", "--replay-speed", "4",
-                                      ...rest]);
+const node = await startNode(a.node, live ? ["--lcm", a.url, "--view", String(port), ...rest]
+                                          : ["--replay", log, "--view", String(port), "--view-wait", "--replay-speed",
+                                             "4", ...rest]);
 
 const expected = {
   "/map": "foxglove.Grid",
@@ -31,11 +35,19 @@ const client = new FoxgloveClient({
 const closed = new Promise((resolve) => client.on("close", resolve));
 client.on("error", (e) => fail("client error: " + e.message));
 client.on("serverInfo", (info) => (serverName = info.name));
+let player = null;
 client.on("advertise", (list) => {
   for (const ch of list) {
     channels.set(ch.id, ch);
     topicOf.set(client.subscribe(ch.id), ch.topic);
   }
+  if (!live || player) return;
+  // Live: play the log once we are subscribed; when it is over, stop the node (which closes our connection).
+  player = spawn("lcm-logplayer", ["--lcm-url=" + a.url, log], { stdio: "ignore" });
+  player.on("exit", (code) => {
+    if (code !== 0) fail("lcm-logplayer exited with " + code);
+    setTimeout(() => node.proc.kill("SIGINT"), 300);  // the last inputs through the reorder window
+  });
 });
 const decoder = new TextDecoder();
 client.on("message", ({ subscriptionId, timestamp, data }) => {
@@ -104,7 +116,7 @@ if (!status || !Array.isArray(status.bits) || status.word_hex === undefined || s
 if (got["/estimate/ellipse"].at(-1)?.msg.entities[0].lines[0].points.length !== 36) fail("ellipse");
 const summary = output.split("\n").find((l) => l.includes("  view:")) || "(no view line)";
 
-console.log(`foxglove client: ${channels.size} channels; ${estimates.length} estimates, ${truths.length} truths, ` +
+console.log(`foxglove client (${live ? "live node, lcm-logplayer at 1x" : "replay at 4x"}): ${channels.size} channels; ${estimates.length} estimates, ${truths.length} truths, ` +
             `${clouds.length} particle clouds, ${got["/status"].length} status, map ${map?.column_count}x${Math.round(cells / (map?.row_stride || 1))}; ` +
             `estimate vs truth RMSE ${rmse.toFixed(3)} m, worst over the last second ${worstLast.toFixed(3)} m; node${summary}`);
 if (process.exitCode) console.log("0 passed, 1 failed"); else console.log("1 passed, 0 failed");
