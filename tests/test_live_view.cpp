@@ -9,6 +9,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <thread>
+#include <vector>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -37,6 +39,33 @@ std::string http_get(std::uint16_t port, const std::string& path) {
   }
   ::close(fd);
   return answer;
+}
+
+// A WebSocket client that subscribes to `channel` and then reads nothing (its receive buffer kept small): the
+// server's sends pile up behind it.
+int stalled_subscriber(std::uint16_t port, std::uint32_t channel) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  const int small = 4096;
+  ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &small, sizeof small);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(port);
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) != 0) return -1;
+  const std::string upgrade =
+      "GET / HTTP/1.1\r\nHost: localhost\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+      "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n"
+      "Sec-WebSocket-Protocol: foxglove.websocket.v1\r\n\r\n";
+  ::send(fd, upgrade.data(), upgrade.size(), 0);
+  char buf[512];
+  if (::recv(fd, buf, sizeof buf, 0) <= 0) return -1;  // 101 Switching Protocols (and maybe more)
+  const std::string sub = R"({"op":"subscribe","subscriptions":[{"id":1,"channelId":)" + std::to_string(channel) + "}]}";
+  std::string frame = {'\x81', static_cast<char>(0x80 | sub.size())};  // text, masked, length < 126
+  const char mask[4] = {1, 2, 3, 4};
+  frame.append(mask, 4);
+  for (std::size_t i = 0; i < sub.size(); ++i) frame += static_cast<char>(sub[i] ^ mask[i % 4]);
+  ::send(fd, frame.data(), frame.size(), 0);
+  return fd;
 }
 
 std::string base64_decode(const std::string& s) {
@@ -151,4 +180,23 @@ TEST_CASE("the producer never waits: a burst beyond the hand-off is dropped and 
   CHECK(c.dropped_handoff > 0u);  // the ring holds 4096, drained every 20 ms
   CHECK(c.dropped_handoff < 20000u);
   CHECK_FALSE(v.particles_due());  // nobody subscribed: no cloud is copied
+}
+
+TEST_CASE("a client that stops reading is skipped and counted, the others and the producer go on", "[view]") {
+  view::LiveView v(0, "test");
+  const int fd = stalled_subscriber(v.port(), static_cast<std::uint32_t>(view::Channel::particles));
+  REQUIRE(fd >= 0);
+  for (int i = 0; i < 100 && v.subscribers() == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  REQUIRE(v.subscribers() == 1u);
+  // 2000-particle clouds (~150 kB of JSON each) every 5 ms for 2 s: far more than a socket that is never read holds.
+  std::vector<float> x(2000, 1.0f), y(2000, 2.0f), theta(2000, 0.5f);
+  for (int i = 0; i < 400; ++i) {
+    v.publish_particles(i, x.data(), y.data(), theta.data(), 2000);
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  const view::ViewCounters c = v.counters();
+  CHECK(c.dropped_slow > 0u);
+  CHECK(c.messages_sent > 0u);
+  v.stop();  // returns although the client never answers the close handshake
+  ::close(fd);
 }
