@@ -9,10 +9,12 @@
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <est_lcm/ground_truth_t.hpp>
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "est/map/distance_transform.hpp"
 #include "est/map/landmark_map.hpp"
@@ -30,6 +32,7 @@
 #include "hal/status_word.hpp"
 #include "node/lcm_log_io.hpp"
 #include "node/stamp_alignment.hpp"
+#include "view/live_view.hpp"
 #include "world/office_map.hpp"
 
 namespace node {
@@ -115,12 +118,14 @@ class NodeOutputs final : public hal::EstimateSink {
   CandumpWriter* candump = nullptr;
   hal::can::CanEstimateSink* candump_sink = nullptr;
   const StampAlignment* sender_time = nullptr;  // live, aligned: estimates out in the sender's time
+  view::LiveView* view = nullptr;
 
   void publish(const hal::Estimate& loop_estimate) override {
     hal::Estimate e = loop_estimate;
     if (sender_time != nullptr) e.stamp_ns = sender_time->to_sender(e.stamp_ns);
     ++count_;
     last_ = e;
+    if (view != nullptr) view->publish_estimate(view_sample(e));
     if (lcm != nullptr) lcm->publish(e);
     if (can != nullptr) can->publish(e);
     if (candump_sink != nullptr) {
@@ -143,8 +148,20 @@ class NodeOutputs final : public hal::EstimateSink {
     if (count_ > 0) publish_status(last_);
   }
   std::uint64_t count() const { return count_; }
+  TimeNs last_stamp() const { return last_.stamp_ns; }
 
  private:
+  static view::EstimateSample view_sample(const hal::Estimate& e) {
+    view::EstimateSample v;
+    v.stamp_ns = e.stamp_ns;
+    v.pose = {e.pose.x, e.pose.y, e.pose.theta};
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) v.covariance[3 * r + k] = static_cast<double>(e.covariance(r, k));
+    v.status = e.status;
+    v.rejected_inputs = e.rejected_inputs;
+    return v;
+  }
+
   hal::lcm::Channels channels_;
   TimeNs status_period_ns_;
   std::function<est_lcm::status_t(const hal::Estimate&)> make_status_;
@@ -174,6 +191,31 @@ struct SenderTimeRecorder {
       record(s);
   }
 };
+// Replay pacing: holds each log event until its receive time, scaled by 1 / speed, has passed on the wall clock.
+class Pacer {
+ public:
+  explicit Pacer(double speed) : speed_(speed) {}
+  void at(TimeNs log_ns) {
+    if (speed_ <= 0.0) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (!started_) {
+      started_ = true;
+      first_ns_ = log_ns;
+      wall_start_ = now;
+      return;
+    }
+    const auto due = wall_start_ + std::chrono::nanoseconds(
+                                       static_cast<std::int64_t>(static_cast<double>(log_ns - first_ns_) / speed_));
+    if (due > now) std::this_thread::sleep_until(due);
+  }
+
+ private:
+  double speed_;
+  bool started_ = false;
+  TimeNs first_ns_ = 0;
+  std::chrono::steady_clock::time_point wall_start_;
+};
+
 // Stamps the replay's HAL clock with each raw sample's own stamp.
 struct StampHook {
   StampClock* clock;
@@ -216,12 +258,55 @@ struct Node::Impl {
       out_log = std::make_unique<LogWriter>(c.out_path);
       outputs.log = out_log.get();
     }
+    if (c.view_port != 0) start_view();
     if (!c.out_can_path.empty()) {
       candump = std::make_unique<CandumpWriter>(c.out_can_path, "can0");
       candump_sink = std::make_unique<hal::can::CanEstimateSink>(*candump);
       outputs.candump = candump.get();
       outputs.candump_sink = candump_sink.get();
     }
+  }
+
+  void start_view() {
+    view = std::make_unique<view::LiveView>(c.view_port, "estimator_node");
+    if (maps->view.grid.valid()) {
+      const est::OccupancyGrid& g = maps->view.grid;
+      view::MapGrid m;
+      m.width = g.width();
+      m.height = g.height();
+      m.resolution_m = static_cast<double>(g.resolution());
+      m.origin_x = static_cast<double>(g.origin_x());
+      m.origin_y = static_cast<double>(g.origin_y());
+      m.cells.assign(g.cells(), g.cells() + g.cell_count());
+      view->set_map(m);
+    }
+    outputs.view = view.get();
+    std::fprintf(stderr, "estimator_node: live view on http://localhost:%u/ (Foxglove: ws://localhost:%u)\n",
+                 unsigned{view->port()}, unsigned{view->port()});
+  }
+
+  // MCL's particles to the view, at its rate.
+  void feed_view() {
+    if (!view || !view->particles_due()) return;
+    const est::ConstParticleSetView p = pipeline->particles();
+    if (p.count > 0) view->publish_particles(outputs.last_stamp(), p.x, p.y, p.theta, p.count);
+  }
+  // The ground truth, when the input carries it (a sim_host record log, or its LCM channel live).
+  void view_truth(const void* data, std::size_t size) {
+    est_lcm::ground_truth_t g;
+    if (g.decode(data, 0, static_cast<int>(size)) < 0) return;
+    view->publish_truth(g.stamp_ns,
+                        {static_cast<double>(g.x_m), static_cast<double>(g.y_m), static_cast<double>(g.theta_rad)});
+  }
+  // A watched replay (real time by default) stops on SIGINT/SIGTERM with its summary, as a live node does; with
+  // --view-wait it starts once a viewer has subscribed.
+  void wait_for_viewer() {
+    if (!view) return;
+    catch_stop_signals();
+    if (!c.view_wait) return;
+    std::fprintf(stderr, "estimator_node: waiting for a viewer\n");
+    while (view->subscribers() == 0 && g_stop_signal.load() == 0)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
 
   hal::lcm::InputConfig lcm_input_config(unsigned counter_bits) const {
@@ -276,8 +361,10 @@ struct Node::Impl {
       rc = run_replay_can();
     else
       rc = run_live();
+    stop_signal = g_stop_signal.load();
     pipeline->flush();
     outputs.final_status();
+    if (view) view->stop();
     wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     return rc;
   }
@@ -293,15 +380,20 @@ struct Node::Impl {
     stamper = std::make_unique<hal::Forward<hal::SensorPort, StampHook>>(pipeline->input(), StampHook{&stamp_clock});
     lcm_inputs = std::make_unique<hal::lcm::LcmInputs>(*lcm_in, lcm_input_config(c.lcm_wheel_counter_bits), *stamper);
     refresh(0);
+    wait_for_viewer();
+    Pacer pacer(c.replay_speed);
     while (g_stop_signal.load() == 0) {
       const ::lcm::LogEvent* ev = in.readNextEvent();
       if (ev == nullptr) break;
       ++log_events;
+      pacer.at(ev->timestamp * 1000);  // the log's receive time, us
+      if (view && ev->channel == c.channels.ground_truth) view_truth(ev->data, static_cast<std::size_t>(ev->datalen));
       if (!lcm_inputs->is_input_channel(ev->channel)) continue;
       ++log_inputs;
       lcm_in->publish(ev->channel, ev->data, static_cast<unsigned>(ev->datalen));
       lcm_in->handle();
       refresh(0);
+      feed_view();
     }
     return 0;
   }
@@ -315,6 +407,8 @@ struct Node::Impl {
     scans = std::make_unique<hal::can::ScanReassembler<static_cast<std::size_t>(kMaxBeams)>>();
     can_input = std::make_unique<hal::can::CanInput>(*scans, pipeline->input());
     refresh(0);
+    wait_for_viewer();
+    Pacer pacer(c.replay_speed);
     std::string line;
     std::uint64_t number = 0;
     while (g_stop_signal.load() == 0 && std::getline(in, line)) {
@@ -332,20 +426,26 @@ struct Node::Impl {
         continue;
       }
       ++log_inputs;
+      pacer.at(stamp);
       stamp_clock.now = stamp;
       can_input->on_frame(frame, stamp);
       can_input->poll(stamp);
       refresh(0);
+      feed_view();
     }
     return 0;
   }
 
-  int run_live() {
+  static void catch_stop_signals() {
     struct sigaction sa {};
     sa.sa_handler = on_stop_signal;
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, nullptr);
     sigaction(SIGTERM, &sa, nullptr);
+  }
+
+  int run_live() {
+    catch_stop_signals();
 
     if (c.lcm_input) {
       lcm_in = std::make_unique<::lcm::LCM>(c.lcm_url);
@@ -357,6 +457,7 @@ struct Node::Impl {
           *lcm_in,
           lcm_input_config(c.can_interface.empty() ? c.lcm_wheel_counter_bits : hal::can::kCanWheelCounterBits),
           alignment ? static_cast<hal::SensorPort&>(*alignment) : pipeline->input());
+      if (view) lcm_in->subscribe(c.channels.ground_truth, &Impl::on_truth, this);
     }
     ::lcm::LCM* out = lcm_in.get();
     if (out == nullptr || c.lcm_out_url != c.lcm_url) {
@@ -414,9 +515,13 @@ struct Node::Impl {
         refresh(bus ? bus->take_status() : 0u);
         for (int k = 0; k < 256 && lcm_in->handleTimeout(0) > 0; ++k) refresh(bus ? bus->take_status() : 0u);
       }
+      feed_view();
     }
-    stop_signal = g_stop_signal.load();
     return 0;
+  }
+
+  void on_truth(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {
+    view_truth(rbuf->data, rbuf->data_size);
   }
 
   void print_summary(std::FILE* f) const {
@@ -483,6 +588,13 @@ struct Node::Impl {
                    static_cast<unsigned long long>(out_log->failures()));
     if (candump)
       std::fprintf(f, "  out_can: frames=%llu\n", static_cast<unsigned long long>(candump->frames()));
+    if (view) {
+      const view::ViewCounters v = view->counters();
+      std::fprintf(f, "  view: port=%u clients=%llu pages=%llu sent=%llu dropped_handoff=%llu dropped_slow=%llu\n",
+                   unsigned{view->port()}, static_cast<unsigned long long>(v.clients),
+                   static_cast<unsigned long long>(v.pages), static_cast<unsigned long long>(v.messages_sent),
+                   static_cast<unsigned long long>(v.dropped_handoff), static_cast<unsigned long long>(v.dropped_slow));
+    }
     if (record_log)
       std::fprintf(f, "  record_log: events=%llu failures=%llu\n", static_cast<unsigned long long>(record_log->events()),
                    static_cast<unsigned long long>(record_log->failures()));
@@ -509,6 +621,7 @@ struct Node::Impl {
   std::unique_ptr<hal::can::CanEstimateSink> candump_sink;
   std::unique_ptr<hal::Forward<hal::SensorPort, StampHook>> stamper;
   std::unique_ptr<StampAlignment> alignment;  // live LCM inputs onto the node's clock (--stamps align)
+  std::unique_ptr<view::LiveView> view;        // --view
   // The LCM instances outlive the backend objects that subscribe on them (members are destroyed in reverse).
   std::unique_ptr<::lcm::LCM> lcm_in, lcm_out;
   std::unique_ptr<hal::lcm::LcmInputs> lcm_inputs;

@@ -6,7 +6,9 @@
 // cannot be loaded, std::invalid_argument on a configuration the firmware refuses).
 //
 // Data path: transport -> node/estimator_pipeline.hpp (hal::ValidatedInputs -> [input counter, recorder] ->
-// hal::LoopPort -> est::loop::FilterLoop) -> the outputs (LCM, CAN, log files).
+// hal::LoopPort -> est::loop::FilterLoop) -> the outputs (LCM, CAN, log files), and with --view the live view
+// (sim_host/view/: the estimates, MCL's particles at ~10 Hz and the input's ground truth, handed off without ever
+// holding the loop).
 // Time: live, CAN inputs carry the kernel's receive time and LCM inputs their sender's stamp_ns (moved onto the node's
 // clock by one offset at the first message unless --stamps sender: node/stamp_alignment.hpp), checked against
 // CLOCK_MONOTONIC; in replay the HAL's clock reads each message's own stamp (so staleness, a property of live

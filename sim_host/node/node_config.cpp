@@ -131,6 +131,18 @@ void add_options(CLI::App& app, NodeConfig& c) {
       ->capture_default_str()->check(CLI::NonNegativeNumber)->group(io);
   app.add_flag("--quiet", c.quiet, "no summary on stderr at the end")->group(io);
 
+  const char* view = "Live view";
+  app.add_option("--view", c.view_port,
+                 "serve a live view on 127.0.0.1:PORT (0: off): the Foxglove WebSocket protocol (connect Foxglove "
+                 "Studio to ws://localhost:PORT: the map, truth, particles, estimate with its 2-sigma ellipse, status) "
+                 "and a page drawing the same at http://localhost:PORT/")
+      ->capture_default_str()->group(view);
+  app.add_flag("--view-wait", c.view_wait, "replay: start once a viewer has subscribed (needs --view)")->group(view);
+  app.add_option("--replay-speed", c.replay_speed,
+                 "replay pacing by the log's receive times: 0 as fast as possible, 1 real time, 2 twice as fast "
+                 "(outputs unchanged, bit for bit); default 0, or 1 with --view")
+      ->check(CLI::NonNegativeNumber)->group(view);
+
   const char* robot = "Robot: the motion model and its inputs";
   add_choice(app, "--model", e.model, {"velocity", "odometry", "bicycle", "diff-drive", "omni", "holonomic"},
              "motion model: velocity (twist v, w), odometry (odometry poses, Thrun table 5.6), bicycle (wheel 0 "
@@ -331,8 +343,12 @@ void finish_options(const CLI::App& app, NodeConfig& c) {
   if (replay_lcm && replay_can) throw CLI::ValidationError("--replay", "one replay at a time: --replay or --replay-can");
   if (c.replay() && (!c.can_interface.empty() || c.lcm_input))
     throw CLI::ValidationError("--replay", "replays alone: no --can or --lcm with it");
-  if (c.replay() && c.out_path.empty() && c.out_can_path.empty())
-    throw CLI::ValidationError("--replay", "needs --out OUT.lcmlog or --out-can OUT.candump");
+  if (c.replay() && c.out_path.empty() && c.out_can_path.empty() && c.view_port == 0)
+    throw CLI::ValidationError("--replay", "needs --out OUT.lcmlog, --out-can OUT.candump or --view PORT");
+  if (c.view_wait && (c.view_port == 0 || !c.replay()))
+    throw CLI::ValidationError("--view-wait", "needs --view PORT and a replay");
+  if (app.count("--replay-speed") > 0 && !c.replay()) throw CLI::ValidationError("--replay-speed", "needs a replay");
+  if (c.replay_speed < 0.0) c.replay_speed = c.view_port != 0 ? 1.0 : 0.0;
   if (c.can_out && c.can_interface.empty()) throw CLI::ValidationError("--can-out", "needs --can IFACE");
   if (app.count("--stamps") > 0 && !c.lcm_input) throw CLI::ValidationError("--stamps", "needs --lcm URL (live)");
   if (e.global == pose_given)

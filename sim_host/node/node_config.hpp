@@ -37,6 +37,14 @@ struct NodeConfig {
   bool quiet = false;
   unsigned lcm_wheel_counter_bits = 32;
 
+  // Live view (sim_host/view/): the Foxglove WebSocket protocol and the page on 127.0.0.1:view_port (0: off).
+  std::uint16_t view_port = 0;
+  bool view_wait = false;     // replay: start once a viewer has subscribed
+  // Replay pacing by the log's receive times: 0 as fast as possible, 1 real time, 2 twice as fast. Pacing changes
+  // only when the inputs are handled, never what they give: the outputs stay the lockstep replay's, bit for bit.
+  // Default: 0, or 1 with --view (a replay at full speed is over before anyone sees it).
+  double replay_speed = -1.0;
+
   // Maps: 'office' (the simulator's synthetic office) or files.
   std::string map = "office";
   std::string landmarks = "office";
