@@ -32,6 +32,7 @@
 #include "hal/status_word.hpp"
 #include "node/lcm_log_io.hpp"
 #include "node/stamp_alignment.hpp"
+#include "node/view_feed.hpp"
 #include "view/live_view.hpp"
 #include "world/office_map.hpp"
 
@@ -151,17 +152,6 @@ class NodeOutputs final : public hal::EstimateSink {
   TimeNs last_stamp() const { return last_.stamp_ns; }
 
  private:
-  static view::EstimateSample view_sample(const hal::Estimate& e) {
-    view::EstimateSample v;
-    v.stamp_ns = e.stamp_ns;
-    v.pose = {e.pose.x, e.pose.y, e.pose.theta};
-    for (int r = 0; r < 3; ++r)
-      for (int k = 0; k < 3; ++k) v.covariance[3 * r + k] = static_cast<double>(e.covariance(r, k));
-    v.status = e.status;
-    v.rejected_inputs = e.rejected_inputs;
-    return v;
-  }
-
   hal::lcm::Channels channels_;
   TimeNs status_period_ns_;
   std::function<est_lcm::status_t(const hal::Estimate&)> make_status_;
@@ -269,17 +259,7 @@ struct Node::Impl {
 
   void start_view() {
     view = std::make_unique<view::LiveView>(c.view_port, "estimator_node");
-    if (maps->view.grid.valid()) {
-      const est::OccupancyGrid& g = maps->view.grid;
-      view::MapGrid m;
-      m.width = g.width();
-      m.height = g.height();
-      m.resolution_m = static_cast<double>(g.resolution());
-      m.origin_x = static_cast<double>(g.origin_x());
-      m.origin_y = static_cast<double>(g.origin_y());
-      m.cells.assign(g.cells(), g.cells() + g.cell_count());
-      view->set_map(m);
-    }
+    if (maps->view.grid.valid()) view->set_map(view_map(maps->view.grid));
     outputs.view = view.get();
     std::fprintf(stderr, "estimator_node: live view on http://localhost:%u/ (Foxglove: ws://localhost:%u)\n",
                  unsigned{view->port()}, unsigned{view->port()});
@@ -287,9 +267,7 @@ struct Node::Impl {
 
   // MCL's particles to the view, at its rate.
   void feed_view() {
-    if (!view || !view->particles_due()) return;
-    const est::ConstParticleSetView p = pipeline->particles();
-    if (p.count > 0) view->publish_particles(outputs.last_stamp(), p.x, p.y, p.theta, p.count);
+    if (view) feed_particles(*view, *pipeline, outputs.last_stamp());
   }
   // The ground truth, when the input carries it (a sim_host record log, or its LCM channel live).
   void view_truth(const void* data, std::size_t size) {

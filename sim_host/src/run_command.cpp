@@ -29,7 +29,9 @@ void add_run_command(CLI::App& app) {
     std::string scenario, out;
     std::uint64_t seed = 0;
     double duration_s = 0.0;
-    bool quiet = false, no_plots = false;
+    bool quiet = false, no_plots = false, view_wait = false;
+    std::uint16_t view_port = 0;
+    double view_speed = 1.0;
   };
   auto o = std::make_shared<Options>();
   CLI::App* c = app.add_subcommand(
@@ -44,6 +46,12 @@ void add_run_command(CLI::App& app) {
   c->add_option("--out", o->out, "output directory (created; default: runs/NAME)");
   c->add_flag("--quiet", o->quiet, "no progress line on a terminal");
   c->add_flag("--no-plots", o->no_plots, "skip the PNG figures (no gnuplot needed)");
+  c->add_option("--view", o->view_port,
+                "serve the live view on localhost:PORT during the run: the page at http://localhost:PORT/, the Foxglove "
+                "WebSocket protocol for Foxglove Studio (a single robot; 0: none)")->capture_default_str();
+  c->add_option("--view-speed", o->view_speed, "with --view: the run at this many times real time (0: full speed)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  c->add_flag("--view-wait", o->view_wait, "with --view: start the run once a viewer has subscribed");
   c->callback([o, seed, duration]() {
     ScenarioFile f = load_scenario(o->scenario);
     if (seed->count() > 0) {
@@ -60,7 +68,14 @@ void add_run_command(CLI::App& app) {
     }
     const std::string out =
         o->out.empty() ? "runs/" + std::filesystem::path(o->scenario).stem().string() : o->out;
-    run_scenario(f, RunOptions{out, !o->no_plots, o->quiet});
+    RunOptions ro;
+    ro.out = out;
+    ro.plots = !o->no_plots;
+    ro.quiet = o->quiet;
+    ro.view_port = o->view_port;
+    ro.view_speed = o->view_speed;
+    ro.view_wait = o->view_wait;
+    run_scenario(f, ro);
   });
 }
 

@@ -4,7 +4,11 @@
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <memory>
+#include <stdexcept>
+#include <thread>
 
+#include "node/view_feed.hpp"
 #include "sim/progress.hpp"
 #include "sim/sample_motion.hpp"
 #include "sim/simulate.hpp"
@@ -81,15 +85,38 @@ void run_scenario(const ScenarioFile& f, const RunOptions& o) {
   switch (f.runner) {
     case ScenarioRunner::simulate: {
       const SimWorld world = load_world(f.scenario);
+      std::unique_ptr<view::LiveView> view;
+      RunView watch;
+      if (o.view_port != 0) {
+        view = std::make_unique<view::LiveView>(o.view_port, "sim_host");
+        if (world.grid.valid()) view->set_map(node::view_map(world.grid));
+        watch.view = view.get();
+        watch.speed = o.view_speed;
+        std::fprintf(stderr, "sim_host: live view on http://localhost:%u/ (Foxglove: ws://localhost:%u)\n",
+                     unsigned{view->port()}, unsigned{view->port()});
+        if (o.view_wait) {
+          std::fprintf(stderr, "sim_host: waiting for a viewer to subscribe\n");
+          while (view->subscribers() == 0) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        }
+      }
       // A run longer than a few seconds shows its simulated time on a terminal.
       Progress progress("simulate", f.scenario.duration_s, o.quiet, Progress::Unit::simulated_s, 2.0);
-      const SimResult r = run_simulation(f.scenario, f.filter, world, &progress);
+      const SimResult r = run_simulation(f.scenario, f.filter, world, &progress, view ? &watch : nullptr);
       progress.finish();
+      if (view) {
+        view->stop();
+        const view::ViewCounters v = view->counters();
+        std::fprintf(stderr, "sim_host: view: clients=%llu sent=%llu dropped_handoff=%llu dropped_slow=%llu\n",
+                     static_cast<unsigned long long>(v.clients), static_cast<unsigned long long>(v.messages_sent),
+                     static_cast<unsigned long long>(v.dropped_handoff),
+                     static_cast<unsigned long long>(v.dropped_slow));
+      }
       write_simulation_outputs(r, f.scenario, f.filter, world, o.out, o.plots);
       print_summary(r, f.scenario, world, o.out);
       return;
     }
     case ScenarioRunner::team: {
+      if (o.view_port != 0) throw std::invalid_argument("--view: a team scenario has no live view yet (one robot only)");
       team::TeamRunOptions t;
       t.scenario = f.team;
       t.out = o.out;
@@ -101,6 +128,7 @@ void run_scenario(const ScenarioFile& f, const RunOptions& o) {
       return;
     }
     case ScenarioRunner::exercise: {
+      if (o.view_port != 0) throw std::invalid_argument("--view: an exercise draws samples, it has no live view");
       const std::vector<MotionCloud> clouds = bicycle_exercise(f.exercise_seed, f.exercise_samples);
       for (const MotionCloud& c : clouds) {
         write_cloud(c, o.out);

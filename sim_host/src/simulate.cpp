@@ -7,10 +7,12 @@
 #include <cmath>
 #include <memory>
 #include <stdexcept>
+#include <thread>
 
 #include "hal/estimate.hpp"
 #include "hal/status_word.hpp"
 #include "node/estimator_pipeline.hpp"
+#include "node/view_feed.hpp"
 
 namespace sim {
 namespace {
@@ -53,7 +55,7 @@ ParticleSnapshot snapshot(const node::EstimatorPipeline& p, hal::TimeNs t, const
 }
 
 void run_stream(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorld& world, SimResult& r,
-                Progress* progress) {
+                Progress* progress, const RunView* watch) {
   const SensorStream& s = r.stream;
   const bool mcl = fo.filter == est::loop::Filter::mcl;
   const node::EstimatorSpec spec = estimator_spec(sc, fo, s);
@@ -88,6 +90,7 @@ void run_stream(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorl
     bool mcl = false;
     std::vector<std::pair<hal::TimeNs, std::string>>* snap_at = nullptr;
     std::size_t* next_snap = nullptr;
+    view::LiveView* view = nullptr;
     void publish(const hal::Estimate& e) override {
       OutputRow row;
       row.t_ns = e.stamp_ns;
@@ -109,6 +112,11 @@ void run_stream(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorl
       row.status = e.status & ~hal::status::kDeadlineOverrun;
       row.rejected_inputs = e.rejected_inputs;
       r->rows.push_back(row);
+      if (view != nullptr) {
+        view->publish_estimate(node::view_sample(e));
+        view->publish_truth(e.stamp_ns, {row.truth.x, row.truth.y, row.truth.theta});
+        if (mcl) node::feed_particles(*view, *pipeline, e.stamp_ns);
+      }
       if (mcl) {
         while (*next_snap < snap_at->size() && e.stamp_ns >= (*snap_at)[*next_snap].first) {
           r->snapshots.push_back(snapshot(*pipeline, e.stamp_ns, (*snap_at)[*next_snap].second, row.truth, row.estimate));
@@ -121,6 +129,9 @@ void run_stream(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorl
   sink.mcl = mcl;
   sink.snap_at = &snap_at;
   sink.next_snap = &next_snap;
+  view::LiveView* const view = watch != nullptr ? watch->view : nullptr;
+  sink.view = view;
+  const auto wall_start = std::chrono::steady_clock::now();
 
   WallClock wall;
   ArrivalClock arrival;
@@ -142,6 +153,10 @@ void run_stream(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorl
     }
     pipeline->refresh(0, 0);
     if (progress != nullptr) progress->update(static_cast<double>(e.arrival_ns - t0) * 1e-9);
+    if (view != nullptr && watch->speed > 0.0)  // paced for the viewer: this event's time, scaled, after the start
+      std::this_thread::sleep_until(wall_start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                     std::chrono::duration<double>(
+                                                         static_cast<double>(e.arrival_ns - t0) * 1e-9 / watch->speed)));
   }
   pipeline->flush();
 
@@ -342,7 +357,7 @@ std::map<std::string, int> SimResult::observed_counts() const {
 }
 
 SimResult run_simulation(const ScenarioConfig& scenario, const FilterOptions& filter, const SimWorld& world,
-                         Progress* progress) {
+                         Progress* progress, const RunView* watch) {
   const auto started = std::chrono::steady_clock::now();
   SimResult r;
   r.filter = filter.filter;
@@ -356,7 +371,7 @@ SimResult run_simulation(const ScenarioConfig& scenario, const FilterOptions& fi
   r.stream = generate_stream(scenario, world);
   if (r.stream.truth.empty()) throw std::invalid_argument("the run has no steps");
   expect_loop_inputs(r.stream, !ekf, ekf);
-  run_stream(scenario, filter, world, r, progress);
+  run_stream(scenario, filter, world, r, progress, watch);
   r.metrics = compute_metrics(r, filter);
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return r;

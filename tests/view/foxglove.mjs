@@ -1,7 +1,8 @@
 // The live view as Foxglove Studio sees it: @foxglove/ws-protocol's FoxgloveClient subscribes to every channel
 // while estimator_node runs a 20 s log, then checks the advertised channels and their schemas, and that the
 // estimates track the ground truth messages. --mode replay: the node replays the log at 4x (--view-wait: once we
-// subscribed); --mode live: a live node on LCM (--url) and lcm-logplayer playing the log into it at 1x.
+// subscribed); --mode live: a live node on LCM (--url) and lcm-logplayer playing the log into it at 1x; --mode sim:
+// `sim_host run bicycle-rangefinder --view` (--sim: sim_host), its 20 s at 4x once we subscribed.
 import { spawn } from "node:child_process";
 import foxglove from "@foxglove/ws-protocol";
 import WebSocket from "ws";
@@ -10,11 +11,13 @@ import { args, fail, freePort, replayOptions, startNode } from "./view_run.mjs";
 const { FoxgloveClient } = foxglove;
 const a = args();
 const { log, rest } = replayOptions(a.options);
-const live = a.mode === "live";
+const live = a.mode === "live", sim = a.mode === "sim";
 const port = await freePort();
-const node = await startNode(a.node, live ? ["--lcm", a.url, "--view", String(port), ...rest]
-                                          : ["--replay", log, "--view", String(port), "--view-wait", "--replay-speed",
-                                             "4", ...rest]);
+const node = sim ? await startNode(a.sim, ["run", "bicycle-rangefinder", "--view", String(port), "--view-wait",
+                                           "--view-speed", "4", "--no-plots", "--quiet", "--out", a.work + "/sim"])
+                 : await startNode(a.node, live ? ["--lcm", a.url, "--view", String(port), ...rest]
+                                                : ["--replay", log, "--view", String(port), "--view-wait",
+                                                   "--replay-speed", "4", ...rest]);
 
 const expected = {
   "/map": "foxglove.Grid",
@@ -64,10 +67,10 @@ const timeout = setTimeout(() => {
 await closed;  // the server closes the connection when the replay is over
 const { code, output } = await node.exited;
 clearTimeout(timeout);
-if (code !== 0) fail(`estimator_node exited with ${code}:\n${output}`);
+if (code !== 0) fail(`${sim ? "sim_host" : "estimator_node"} exited with ${code}:\n${output}`);
 
 // The channels and their schemas.
-if (serverName !== "estimator_node") fail("serverInfo name " + serverName);
+if (serverName !== (sim ? "sim_host" : "estimator_node")) fail("serverInfo name " + serverName);
 for (const [topic, schemaName] of Object.entries(expected)) {
   const ch = [...channels.values()].find((c) => c.topic === topic);
   if (!ch) { fail("not advertised: " + topic); continue; }
@@ -114,9 +117,9 @@ if (clouds.length < 10 || !(clouds.at(-1).msg.poses.length > 0)) fail(`${clouds.
 const status = got["/status"].at(-1)?.msg;
 if (!status || !Array.isArray(status.bits) || status.word_hex === undefined || status.covariance?.length !== 9) fail("status " + JSON.stringify(status));
 if (got["/estimate/ellipse"].at(-1)?.msg.entities[0].lines[0].points.length !== 36) fail("ellipse");
-const summary = output.split("\n").find((l) => l.includes("  view:")) || "(no view line)";
+const summary = output.split("\n").find((l) => l.includes("view: ")) || "(no view line)";
 
-console.log(`foxglove client (${live ? "live node, lcm-logplayer at 1x" : "replay at 4x"}): ${channels.size} channels; ${estimates.length} estimates, ${truths.length} truths, ` +
+console.log(`foxglove client (${live ? "live node, lcm-logplayer at 1x" : sim ? "sim_host run at 4x" : "replay at 4x"}): ${channels.size} channels; ${estimates.length} estimates, ${truths.length} truths, ` +
             `${clouds.length} particle clouds, ${got["/status"].length} status, map ${map?.column_count}x${Math.round(cells / (map?.row_stride || 1))}; ` +
             `estimate vs truth RMSE ${rmse.toFixed(3)} m, worst over the last second ${worstLast.toFixed(3)} m; node${summary}`);
 if (process.exitCode) console.log("0 passed, 1 failed"); else console.log("1 passed, 0 failed");

@@ -26,7 +26,8 @@ export function replayOptions(options) {
   return { log: words[1], rest: words.slice(2) };
 }
 
-// Starts estimator_node and resolves once it serves the view; `exited` resolves with its exit code and output.
+// Starts estimator_node (or sim_host) and resolves once it serves the view; `exited` resolves with its exit code and
+// output.
 export async function startNode(exe, argv, seconds = 20) {
   const proc = spawn(exe, argv, { stdio: ["ignore", "pipe", "pipe"] });
   let output = "";
@@ -34,11 +35,11 @@ export async function startNode(exe, argv, seconds = 20) {
   proc.stderr.on("data", (d) => (output += d));
   const exited = new Promise((resolve) => proc.on("exit", (code) => resolve({ code, output })));
   const deadline = Date.now() + seconds * 1000;
-  while (!output.includes("estimator_node: live view on")) {
+  while (!output.includes(": live view on")) {
     if (proc.exitCode !== null) throw new Error("estimator_node exited early:\n" + output);
     if (Date.now() > deadline) {
       proc.kill("SIGTERM");
-      throw new Error("estimator_node did not start its view in " + seconds + " s:\n" + output);
+      throw new Error(exe + " did not start its view in " + seconds + " s:\n" + output);
     }
     await new Promise((r) => setTimeout(r, 50));
   }

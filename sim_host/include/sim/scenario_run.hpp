@@ -2,6 +2,7 @@
 // The one runner behind `sim_host run` and `sim_host simulate`: a scenario file's configuration run end to end
 // (the single robot through run_simulation, a robot team, or a motion exercise), its files written to a folder and
 // its summary printed, with progress on a terminal while it runs. Host only (throws).
+#include <cstdint>
 #include <string>
 
 #include "sim/scenario_file.hpp"
@@ -12,6 +13,11 @@ struct RunOptions {
   std::string out;     // output directory (created)
   bool plots = true;   // the PNG figures (gnuplot)
   bool quiet = false;  // no progress line, even on a terminal
+  // The live view (view/live_view.hpp) on localhost:view_port (0: none; a single robot only), the run paced at
+  // view_speed times real time (0: as fast as it goes), started once a viewer subscribed with view_wait.
+  std::uint16_t view_port = 0;
+  double view_speed = 1.0;
+  bool view_wait = false;
 };
 
 void run_scenario(const ScenarioFile& scenario, const RunOptions& options);

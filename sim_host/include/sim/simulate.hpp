@@ -22,6 +22,7 @@
 #include "sim/progress.hpp"
 #include "sim/scenario.hpp"
 #include "sim/sensor_stream.hpp"
+#include "view/live_view.hpp"
 
 namespace sim {
 
@@ -146,10 +147,18 @@ struct SimResult {
 node::EstimatorSpec estimator_spec(const ScenarioConfig& scenario, const FilterOptions& filter,
                                    const SensorStream& stream);
 
+// A run watched in the live view (view/live_view.hpp; the caller gives it the world's map): every estimate with the
+// truth at its time, and MCL's particles at the view's rate; the stream paced at `speed` times real time (0: as fast
+// as it goes). The outputs are the same bits as an unwatched run's.
+struct RunView {
+  view::LiveView* view = nullptr;
+  double speed = 1.0;
+};
+
 // Throws std::invalid_argument on a bad configuration, e.g. the EKF with a global start or in a world without
 // landmarks. `progress` (optional) is told the simulated time (s from the start) as the stream is consumed.
 SimResult run_simulation(const ScenarioConfig& scenario, const FilterOptions& filter, const SimWorld& world,
-                         Progress* progress = nullptr);
+                         Progress* progress = nullptr, const RunView* watch = nullptr);
 
 using node::to_string;  // of est::loop::Filter
 
