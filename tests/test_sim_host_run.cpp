@@ -16,6 +16,7 @@
 #include <regex>
 #include <string>
 
+#include "node_harness.hpp"
 #include "scratch_dir.hpp"
 #include "sim/builtin_scenarios.hpp"
 #include "sim/scenario_run.hpp"
@@ -23,6 +24,9 @@
 
 #ifndef SIM_HOST_EXE
 #error "SIM_HOST_EXE must name the sim_host executable"
+#endif
+#ifndef ESTIMATOR_NODE_EXE
+#error "ESTIMATOR_NODE_EXE must name the estimator_node executable"
 #endif
 
 namespace {
@@ -273,4 +277,29 @@ TEST_CASE("a rangefinder mounted off the reference point, and a narrow landmark 
   }
   std::printf("landmark features fused: %u over 360 deg, %u over 90 deg\n", fused[0], fused[1]);
   CHECK(fused[1] < fused[0] / 2);
+}
+
+TEST_CASE("a run's LCM log holds its inputs, the ground truth and its estimates, and estimator_node's replay of it "
+          "gives the same estimates bit for bit", "[sim_host_run]") {
+  ScratchDir d("sim_host_run_log");
+  sim::ScenarioFile f = sim::load_scenario("kidnapped");
+  f.scenario.duration_s = 15.0;  // the kidnapping at 12 s and the recovery after it
+  sim::run_scenario(f, sim::RunOptions{d.path.string(), false, true});
+  const fs::path log = d.path / "run.lcmlog";
+  REQUIRE(fs::exists(log));
+  const nlohmann::json side = read_json(d.path / "run.lcmlog.json");
+  const std::vector<est_lcm::pose_estimate_t> logged = est::test::read_estimates(log.string());
+  CHECK(logged.size() == 1500u);  // 15 s of a 100 Hz loop
+  CHECK(side["messages"]["EST_POSE"].get<int>() == 1500);
+  CHECK(side["messages"]["EST_GROUND_TRUTH"].get<int>() > 1400);
+  CHECK(side["messages"]["EST_RANGE_SCAN"].get<int>() > 140);
+  // The sidecar's options replay the log (its inputs only) through estimator_node: the same estimates.
+  const fs::path replayed = d.path / "replayed.lcmlog";
+  const std::string cmd = std::string("'") + ESTIMATOR_NODE_EXE + "' " + side["estimator_node_options"].get<std::string>() +
+                          " --out '" + replayed.string() + "' --quiet";
+  REQUIRE(est::test::run_command(cmd, (d.path / "node.txt").string()) == 0);
+  const std::vector<est_lcm::pose_estimate_t> again = est::test::read_estimates(replayed.string());
+  INFO(slurp(d.path / "node.txt"));
+  CHECK(again.size() == logged.size());
+  CHECK(est::test::first_difference(logged, again) == -1);
 }

@@ -3,6 +3,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -43,7 +44,8 @@ class Writer {
 
 }  // namespace
 
-RecordSummary record_lcm_log(const SensorStream& s, const std::string& path) {
+RecordSummary record_lcm_log(const SensorStream& s, const std::string& path,
+                             const std::vector<hal::Estimate>* estimates) {
   const hal::lcm::Channels ch;
   Writer w(path);
   RecordSummary summary;
@@ -61,8 +63,14 @@ RecordSummary record_lcm_log(const SensorStream& s, const std::string& path) {
       w.write(ch.ground_truth, x.t_ns, g, summary);
     }
   };
+  std::size_t j = 0;
+  const auto estimates_until = [&](hal::TimeNs t) {
+    for (; estimates != nullptr && j < estimates->size() && (*estimates)[j].stamp_ns <= t; ++j)
+      w.write(ch.pose, (*estimates)[j].stamp_ns, hal::lcm::to_lcm((*estimates)[j]), summary);
+  };
   for (const StreamEvent& e : s.events) {
     truth_until(e.arrival_ns);
+    estimates_until(e.arrival_ns);
     switch (e.kind) {
       case StreamKind::wheel_ticks:
         w.write(ch.wheel_ticks, e.arrival_ns, hal::lcm::to_lcm(e.ticks, kEncoderCounterBits), summary);
@@ -77,11 +85,13 @@ RecordSummary record_lcm_log(const SensorStream& s, const std::string& path) {
     }
   }
   truth_until(s.end_ns);
+  estimates_until(std::numeric_limits<hal::TimeNs>::max());
   return summary;
 }
 
 std::string record_sidecar_json(const SensorStream& s, const ScenarioConfig& sc, const SimWorld& world,
-                                const RecordSummary& summary, const std::string& log_path) {
+                                const RecordSummary& summary, const std::string& log_path,
+                                const FilterOptions* filter) {
   nlohmann::ordered_json j;
   const hal::lcm::Channels ch;
   j["log"] = log_path;
@@ -123,9 +133,11 @@ std::string record_sidecar_json(const SensorStream& s, const ScenarioConfig& sc,
   const std::string map = sc.map_yaml.empty() ? "office" : sc.map_yaml;
   const std::string landmarks = sc.landmarks_csv.empty() ? "office" : sc.landmarks_csv;
   const std::string tail = " --wheel-counter-bits " + std::to_string(kEncoderCounterBits);
-  j["estimator_node_options"] =
-      "--replay " + log_path + " " + node::command_line(estimator_spec(sc, mcl, s), map, landmarks) + tail;
-  if (s.landmark_count > 0 && has_landmarks(sc)) {
+  j["estimator_node_options"] = "--replay " + log_path + " " +
+                                node::command_line(estimator_spec(sc, filter != nullptr ? *filter : mcl, s), map,
+                                                   landmarks) +
+                                tail;
+  if (filter == nullptr && s.landmark_count > 0 && has_landmarks(sc)) {
     FilterOptions ekf;
     ekf.filter = est::loop::Filter::ekf;
     ekf.start = StartKind::tracking;

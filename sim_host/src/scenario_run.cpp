@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -10,6 +12,7 @@
 
 #include "node/view_feed.hpp"
 #include "sim/progress.hpp"
+#include "sim/record.hpp"
 #include "sim/sample_motion.hpp"
 #include "sim/simulate.hpp"
 #include "team/team_scenarios.hpp"
@@ -112,7 +115,14 @@ void run_scenario(const ScenarioFile& f, const RunOptions& o) {
                      static_cast<unsigned long long>(v.dropped_slow));
       }
       write_simulation_outputs(r, f.scenario, f.filter, world, o.out, o.plots);
+      // The run as one LCM log: its inputs, the ground truth and the estimates, with the sidecar that says how to
+      // replay it (estimator_node --replay gives the same estimates).
+      const std::string log = (std::filesystem::path(o.out) / "run.lcmlog").string();
+      const RecordSummary logged = record_lcm_log(r.stream, log, &r.estimates);
+      std::ofstream(log + ".json") << record_sidecar_json(r.stream, f.scenario, world, logged, log, &f.filter);
       print_summary(r, f.scenario, world, o.out);
+      std::cout << "  log: " << log << " (inputs, ground truth, estimates on EST_POSE; replay: " << log
+                << ".json's estimator_node_options)\n";
       return;
     }
     case ScenarioRunner::team: {

@@ -112,6 +112,7 @@ void run_stream(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorl
       row.status = e.status & ~hal::status::kDeadlineOverrun;
       row.rejected_inputs = e.rejected_inputs;
       r->rows.push_back(row);
+      r->estimates.push_back(e);
       if (view != nullptr) {
         view->publish_estimate(node::view_sample(e));
         view->publish_truth(e.stamp_ns, {row.truth.x, row.truth.y, row.truth.theta});

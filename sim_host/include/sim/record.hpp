@@ -8,6 +8,9 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
+
+#include "hal/estimate.hpp"
 
 #include "sim/sensor_stream.hpp"
 
@@ -18,11 +21,19 @@ struct RecordSummary {
   std::uint64_t events = 0;
 };
 
-RecordSummary record_lcm_log(const SensorStream& stream, const std::string& path);
+// With `estimates` (a run's outputs, sim/simulate.hpp), they go in too, on EST_POSE at their stamps: the log of a
+// whole run, which estimator_node --replay reads as it reads a recording (it takes its inputs only).
+RecordSummary record_lcm_log(const SensorStream& stream, const std::string& path,
+                             const std::vector<hal::Estimate>* estimates = nullptr);
+
+struct FilterOptions;  // sim/simulate.hpp
 
 // The sidecar <log>.json: the scenario, the message counts per channel, the injected faults and the reject counts
-// a HAL must show after replaying the log (the same keys as metrics.json), and estimator_node options that match.
+// a HAL must show after replaying the log (the same keys as metrics.json), and estimator_node options that match:
+// the run's filter when `filter` is given (the log of a run), else MCL tracking from the start (and the EKF's, with
+// landmarks).
 std::string record_sidecar_json(const SensorStream& stream, const ScenarioConfig& scenario, const SimWorld& world,
-                                const RecordSummary& summary, const std::string& log_path);
+                                const RecordSummary& summary, const std::string& log_path,
+                                const FilterOptions* filter = nullptr);
 
 }  // namespace sim

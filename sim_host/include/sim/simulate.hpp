@@ -122,6 +122,7 @@ struct SimResult {
   est::loop::Filter filter = est::loop::Filter::mcl;
   SensorStream stream;
   std::vector<OutputRow> rows;
+  std::vector<hal::Estimate> estimates;  // the loop's outputs as published (a row each)
   std::vector<ParticleSnapshot> snapshots;
   std::map<std::string, hal::FaultCounters> sensor_faults;  // by the HAL's sensor names (wheel_ticks, ...)
   std::uint32_t landmark_features_accepted = 0;  // by the HAL
