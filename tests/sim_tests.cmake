@@ -22,6 +22,8 @@ foreach(format mrclam victoria carmen tricycle)
   est_add_test(data_${format} LIBS sim_data_${format})
 endforeach()
 est_add_test(progress LIBS sim_tools)
+# sim_host plot (data/plot_log.hpp): a run's log plotted from the log alone.
+est_add_test(plot_log LIBS sim_data sim_scenarios)
 # Scenario files (sim/scenario_file.hpp): the parser, its refusals and the built-ins; `sim_host run` and `list`.
 est_add_test(scenario_file LIBS sim_scenarios)
 target_compile_definitions(test_scenario_file PRIVATE SIM_SCENARIOS_DIR="${PROJECT_SOURCE_DIR}/sim_host/scenarios")

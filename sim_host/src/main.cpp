@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "data/formats.hpp"
+#include "data/plot_log.hpp"
 #include "sim/commands.hpp"
 #include "sim/scenario_file.hpp"
 
@@ -18,6 +19,7 @@ int main(int argc, char** argv) {
   sim::add_learn_beam_model_command(app);
   sim::data::add_import_command(app);
   sim::data::add_eval_command(app);
+  sim::data::add_plot_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
