@@ -32,6 +32,7 @@
 #include "hal/status_word.hpp"
 #include "node/lcm_log_io.hpp"
 #include "node/stamp_alignment.hpp"
+#include "node/pacer.hpp"
 #include "node/view_feed.hpp"
 #include "view/live_view.hpp"
 #include "world/office_map.hpp"
@@ -181,31 +182,6 @@ struct SenderTimeRecorder {
       record(s);
   }
 };
-// Replay pacing: holds each log event until its receive time, scaled by 1 / speed, has passed on the wall clock.
-class Pacer {
- public:
-  explicit Pacer(double speed) : speed_(speed) {}
-  void at(TimeNs log_ns) {
-    if (speed_ <= 0.0) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (!started_) {
-      started_ = true;
-      first_ns_ = log_ns;
-      wall_start_ = now;
-      return;
-    }
-    const auto due = wall_start_ + std::chrono::nanoseconds(
-                                       static_cast<std::int64_t>(static_cast<double>(log_ns - first_ns_) / speed_));
-    if (due > now) std::this_thread::sleep_until(due);
-  }
-
- private:
-  double speed_;
-  bool started_ = false;
-  TimeNs first_ns_ = 0;
-  std::chrono::steady_clock::time_point wall_start_;
-};
-
 // Stamps the replay's HAL clock with each raw sample's own stamp.
 struct StampHook {
   StampClock* clock;

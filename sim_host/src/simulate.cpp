@@ -7,11 +7,11 @@
 #include <cmath>
 #include <memory>
 #include <stdexcept>
-#include <thread>
 
 #include "hal/estimate.hpp"
 #include "hal/status_word.hpp"
 #include "node/estimator_pipeline.hpp"
+#include "node/pacer.hpp"
 #include "node/view_feed.hpp"
 
 namespace sim {
@@ -132,7 +132,7 @@ void run_stream(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorl
   sink.next_snap = &next_snap;
   view::LiveView* const view = watch != nullptr ? watch->view : nullptr;
   sink.view = view;
-  const auto wall_start = std::chrono::steady_clock::now();
+  node::Pacer pacer(view != nullptr ? watch->speed : 0.0);  // paced for a viewer by the arrival times
 
   WallClock wall;
   ArrivalClock arrival;
@@ -154,10 +154,7 @@ void run_stream(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorl
     }
     pipeline->refresh(0, 0);
     if (progress != nullptr) progress->update(static_cast<double>(e.arrival_ns - t0) * 1e-9);
-    if (view != nullptr && watch->speed > 0.0)  // paced for the viewer: this event's time, scaled, after the start
-      std::this_thread::sleep_until(wall_start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                     std::chrono::duration<double>(
-                                                         static_cast<double>(e.arrival_ns - t0) * 1e-9 / watch->speed)));
+    pacer.at(e.arrival_ns);
   }
   pipeline->flush();
 
