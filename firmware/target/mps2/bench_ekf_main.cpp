@@ -23,6 +23,7 @@
 #include "est/team/coop_ekf_estimator.hpp"
 #include "est/team/team_message.hpp"
 #include "est/team/team_window.hpp"
+#include "budget_report.hpp"
 #include "semihosting.hpp"
 
 namespace {
@@ -54,7 +55,7 @@ struct Bench {
     return f;
   }
   // Mean instructions per update over `updates` updates (and the minimum), every landmark in the state.
-  static void run(int updates) {
+  static std::uint64_t run(int updates) {
     Slam& f = filter();
     est::Pose2 x[static_cast<unsigned>(R)];
     typename Slam::RobotCovariance P[static_cast<unsigned>(R)];
@@ -94,10 +95,12 @@ struct Bench {
     board::write(" updates=");
     board::write_dec(static_cast<std::uint64_t>(accepted));
     board::write(" instructions per update: mean ");
-    board::write_dec(total_ticks * 40u / 1024u / static_cast<std::uint64_t>(updates));
+    const std::uint64_t mean = total_ticks * 40u / 1024u / static_cast<std::uint64_t>(updates);
+    board::write_dec(mean);
     board::write(" min ");
     board::write_dec(static_cast<std::uint64_t>(min_ticks) * 40u / 1024u);
     board::write("\n");
+    return mean;
   }
 };
 
@@ -192,6 +195,7 @@ struct TeamBench {
   }
 
   // Instructions of one step (mean and minimum over `steps` steps), then of one step without measurements.
+  static inline std::uint64_t mean_step = 0;  // of the last run
   static bool run(int steps) {
     State& s = state();
     est::team::CoopEkfConfig c;
@@ -233,6 +237,7 @@ struct TeamBench {
     const std::uint32_t t1 = systick_now();
     const std::uint64_t predict = instructions((t0 - t1) & 0x00FFFFFFu, Clock::reference);
     const std::uint64_t mean = total / static_cast<std::uint64_t>(steps);
+    mean_step = mean;
     board::write("bench-ekf " EST_BOARD_NAME " team R=");
     board::write_dec(static_cast<std::uint64_t>(R));
     board::write(" M=");
@@ -270,7 +275,7 @@ void write_size(const char* what, std::uint64_t bytes) {
 
 int main() {
   Bench<2, 16>::run(64);
-  Bench<2, 32>::run(64);
+  const std::uint64_t update = Bench<2, 32>::run(64);
   bool ok = reference_clock_agrees();
   ok = TeamBench<2, 1, false>::run(16) && ok;
   ok = TeamBench<4, 12, true>::run(16) && ok;
@@ -279,6 +284,8 @@ int main() {
   write_size("CoopEkfEstimator<2, 1>", sizeof(est::team::CoopEkfEstimator<2, 1>));
   write_size("TeamWindow<2, 8>", sizeof(est::team::TeamWindow<2, 8>));
   write_size("TeamMessage", sizeof(est::team::TeamMessage));
+  board::report_budget("bench.ekf.update_r2_m32", update, "instructions");
+  board::report_budget("bench.ekf.team_step_r4_m12", TeamBench<4, 12, true>::mean_step, "instructions");
   if (!ok) board::write("bench-ekf " EST_BOARD_NAME " FAIL\n");
   return ok ? 0 : 1;
 }

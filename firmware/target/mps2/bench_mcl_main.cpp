@@ -17,6 +17,7 @@
 #include "est/sensor/likelihood_field_grid.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
 #include "est/sensor/range_scan.hpp"
+#include "budget_report.hpp"
 #include "instruction_counter.hpp"
 #include "semihosting.hpp"
 
@@ -151,6 +152,13 @@ int main() {
   board::write("; with the beam model instead: ");
   board::write_dec((predict.instructions + bm.instructions + resample.instructions) / kSteps);
   board::write("\n");
+  // Per step of N = 512, K = 60 (the per-particle and per-beam figures round too coarsely to be budgets).
+  board::report_budget("bench.mcl.predict_batch", predict_batch.instructions / kSteps, "instructions");
+  board::report_budget("bench.mcl.likelihood_field", lf.instructions / kSteps, "instructions");
+  board::report_budget("bench.mcl.beam_model", bm.instructions / kSteps, "instructions");
+  board::report_budget("bench.mcl.resample", resample.instructions / kSteps, "instructions");
+  board::report_budget("bench.mcl.step",
+                       (predict_batch.instructions + lf.instructions + resample.instructions) / kSteps, "instructions");
   // Calibration of the counter: a loop of exactly 2 x 1000000 instructions (subs + bne), which spans three SysTick
   // wraps; the figure printed should be 2000000 plus the counter's own few instructions.
   board::instruction_counter_start();

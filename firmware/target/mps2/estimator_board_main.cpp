@@ -24,8 +24,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
-#include <new>
-#include <utility>
 
 #include "board_ros_map.hpp"
 #include "est/filter/free_space_sampler.hpp"
@@ -42,6 +40,7 @@
 #include "instruction_counter.hpp"
 #include "semihosting.hpp"
 #include "semihosting_file.hpp"
+#include "static_object.hpp"
 
 #ifndef EST_BOARD_NAME
 #error "EST_BOARD_NAME must name the board"
@@ -56,26 +55,13 @@ using hal::TimeNs;
 constexpr std::size_t kMaxArgs = 8;
 constexpr std::uint64_t kMaxLines = 50000000;  // the replay's bound: ~2 GB of candump text
 
-// An object in static storage, built when its inputs are known and never destroyed (main ends in board::exit).
-template <typename T>
-class Static {
- public:
-  template <typename... Args>
-  T& emplace(Args&&... args) {
-    return *new (bytes_) T(std::forward<Args>(args)...);
-  }
-
- private:
-  alignas(T) unsigned char bytes_[sizeof(T)];
-};
-
 // The maps and their models (~1.8 MB at 512 x 512).
 est::OccupancyGridStorage<board::kMapMaxSide, board::kMapMaxSide> g_grid;
 est::DistanceTransformStorage<board::kMapMaxSide, board::kMapMaxSide> g_edt;
 est::LikelihoodFieldGridStorage<board::kMapMaxSide, board::kMapMaxSide> g_field_grid;
 est::LikelihoodField g_field;
-Static<Estimator> g_estimator;
-Static<Rig::Loop> g_loop;
+board::Static<Estimator> g_estimator;
+board::Static<Rig::Loop> g_loop;
 hal::can::ScanReassembler<static_cast<std::size_t>(board::EstimatorBoardConfig::kMaxBeams)> g_scans;
 board::FileReader g_in;
 board::FileWriter g_out;

@@ -316,7 +316,10 @@ class AugmentedMcl {
   }
 
   PoseEstimate estimate() const { return weighted_mean(set_.view()); }
-  ClusterEstimate cluster_estimate(float cell = 1.0f) const { return strongest_cluster(set_.view(), cell); }
+  // Its table is the filter's (static storage with the set), sized for NMax: the same clusters as 2048 slots.
+  ClusterEstimate cluster_estimate(float cell = 1.0f) const {
+    return strongest_cluster(set_.view(), cluster_table_, cell);
+  }
 
   ConstParticleSetView particles() const { return set_.view(); }
   ParticleSetView particles_mutable() { return set_.view(); }
@@ -508,6 +511,7 @@ class AugmentedMcl {
   MclConfig config_;
   Rng rng_;
   ParticleSet<NMax> set_;
+  mutable ClusterTable<cluster_slots(NMax)> cluster_table_;  // scratch of cluster_estimate()
   KldStoppingRule<4096> kld_;
   MclCounters counters_;
   float log_w_slow_ = 0.0f;

@@ -66,17 +66,39 @@ struct ClusterEstimate {
   bool multimodal = false;  // the strongest cluster holds less than `dominance` of the weight
 };
 
-// The strongest cluster: particles are binned on a coarse grid of `cell` metres (an open-addressing table of Slots
-// cells, a power of two); the heaviest cell and its eight neighbours form the cluster. Two passes over the particles,
-// each probe sequence bounded by Slots: bounded time, no heap. Cells beyond Slots/2 join no cluster seed.
-template <std::uint32_t Slots = 2048>
-ClusterEstimate strongest_cluster(ConstParticleSetView s, float cell = 1.0f, float dominance = 0.9f) {
+// The strongest cluster's table: an open-addressing table of Slots cells of the coarse grid (a power of two).
+// 13 bytes a slot: a filter keeps its own (AugmentedMcl) rather than putting 26 KiB on the stack at 2048 slots.
+template <std::uint32_t Slots>
+struct ClusterTable {
   static_assert((Slots & (Slots - 1u)) == 0u, "Slots must be a power of two");
+  std::int32_t cx[Slots];
+  std::int32_t cy[Slots];
+  float cw[Slots];
+  bool taken[Slots];
+};
+
+// Slots for sets of at most n particles: 2048, or fewer where that cannot change a result. A set of n particles
+// fills at most n cells, and the table refuses cells only beyond Slots/2, so any Slots >= 2n gives the same
+// clusters (a cell's weight is summed in particle order wherever its slot lies).
+constexpr std::uint32_t cluster_slots(std::uint32_t n) {
+  std::uint32_t slots = 16u;
+  while (slots < 2048u && slots < 2u * n) slots *= 2u;
+  return slots;
+}
+
+// The strongest cluster: particles are binned on a coarse grid of `cell` metres (the table's cells); the heaviest
+// cell and its eight neighbours form the cluster. Two passes over the particles, each probe sequence bounded by
+// Slots, and one over the table to clear it: bounded time, no heap. Cells beyond Slots/2 join no cluster seed.
+template <std::uint32_t Slots>
+ClusterEstimate strongest_cluster(ConstParticleSetView s, ClusterTable<Slots>& table, float cell = 1.0f,
+                                  float dominance = 0.9f) {
   ClusterEstimate out;
   out.overall = weighted_mean(s);
-  std::int32_t cx[Slots], cy[Slots];
-  float cw[Slots];
-  bool taken[Slots] = {};
+  std::int32_t* cx = table.cx;
+  std::int32_t* cy = table.cy;
+  float* cw = table.cw;
+  bool* taken = table.taken;
+  for (std::uint32_t j = 0; j < Slots; ++j) taken[j] = false;
   std::uint32_t used = 0;
   std::int32_t bx = 0, by = 0;
   float best = -1.0f;
@@ -117,6 +139,13 @@ ClusterEstimate strongest_cluster(ConstParticleSetView s, float cell = 1.0f, flo
   });
   out.multimodal = out.strongest.weight < dominance;
   return out;
+}
+
+// The same with a table on the stack (Slots x 13 bytes).
+template <std::uint32_t Slots = 2048>
+ClusterEstimate strongest_cluster(ConstParticleSetView s, float cell = 1.0f, float dominance = 0.9f) {
+  ClusterTable<Slots> table;
+  return strongest_cluster(s, table, cell, dominance);
 }
 
 }  // namespace est
