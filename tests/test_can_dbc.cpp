@@ -18,10 +18,7 @@ using est::test::DbcSignal;
 
 namespace {
 
-std::string dbc_path() {
-  const std::string here = __FILE__;
-  return here.substr(0, here.find_last_of('/')) + "/../hal/can/estimator.dbc";
-}
+std::string dbc_path() { return ESTIMATOR_DBC_PATH; }
 
 const std::string& dbc_text() {
   static const std::string text = est::test::read_text_file(dbc_path());
