@@ -12,6 +12,7 @@
 #include <est_lcm/ground_truth_t.hpp>
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -33,6 +34,7 @@
 #include "node/lcm_log_io.hpp"
 #include "node/stamp_alignment.hpp"
 #include "node/pacer.hpp"
+#include "node/udp_drops.hpp"
 #include "node/view_feed.hpp"
 #include "view/live_view.hpp"
 #include "world/office_map.hpp"
@@ -44,8 +46,19 @@ namespace {
 std::atomic<int> g_stop_signal{0};
 extern "C" void on_stop_signal(int sig) { g_stop_signal.store(sig); }
 
+// The node's clock: the monotonic clock, or with --live-speed S a clock that runs S times faster from start-up (the
+// time of a stream played at S times real time).
 struct MonotonicClock final : hal::Clock {
-  TimeNs now_ns() override { return hal::socketcan::monotonic_now_ns(); }
+  explicit MonotonicClock(double speed = 1.0) : speed_(speed), origin_ns_(hal::socketcan::monotonic_now_ns()) {}
+  TimeNs now_ns() override {
+    const TimeNs now = hal::socketcan::monotonic_now_ns();
+    if (speed_ == 1.0) return now;
+    return origin_ns_ + static_cast<TimeNs>(static_cast<double>(now - origin_ns_) * speed_);
+  }
+
+ private:
+  double speed_;
+  TimeNs origin_ns_;
 };
 // Replay: the HAL's checks see each sample at its own stamp.
 struct StampClock final : hal::Clock {
@@ -191,12 +204,27 @@ struct StampHook {
   }
 };
 
+// What the filter starts from, as the node says it at start-up (a node restarted mid-run starts from here again).
+std::string initial_belief(const EstimatorSpec& s) {
+  char text[200];
+  if (s.global)
+    std::snprintf(text, sizeof text, "global localization, %u particles uniform over the free space",
+                  static_cast<unsigned>(s.particles));
+  else
+    std::snprintf(text, sizeof text, "tracking from x=%.3f m y=%.3f m theta=%.3f rad (sigma %.3f m, %.3f rad)",
+                  static_cast<double>(s.initial_pose.x), static_cast<double>(s.initial_pose.y),
+                  static_cast<double>(s.initial_pose.theta), static_cast<double>(s.initial_sigma_xy_m),
+                  static_cast<double>(s.initial_sigma_theta_rad));
+  return text;
+}
+
 }  // namespace
 
 struct Node::Impl {
   explicit Impl(const NodeConfig& config)
       : c(config),
         replay(config.replay()),
+        monotonic(config.live_speed),
         maps(load_maps(config)),
         outputs(config, [this](const hal::Estimate& e) { return status_message(e); }) {
     hal::Clock& step_clock = replay ? static_cast<hal::Clock&>(frozen) : static_cast<hal::Clock&>(monotonic);
@@ -308,6 +336,7 @@ struct Node::Impl {
 
   int run() {
     const auto wall_start = std::chrono::steady_clock::now();
+    std::fprintf(stderr, "estimator_node: initial belief: %s\n", initial_belief(c.spec).c_str());
     int rc = 0;
     if (!c.replay_path.empty())
       rc = run_replay_lcm();
@@ -316,6 +345,7 @@ struct Node::Impl {
     else
       rc = run_live();
     stop_signal = g_stop_signal.load();
+    if (!replay && lcm_in) udp_drops_at_end = udp_receive_drops();
     pipeline->flush();
     outputs.final_status();
     if (view) view->stop();
@@ -442,6 +472,8 @@ struct Node::Impl {
 
     std::fprintf(stderr, "estimator_node: running (%s%s%s%s)\n", c.can_interface.empty() ? "" : "can ",
                  c.can_interface.c_str(), c.lcm_input ? " lcm " : "", c.lcm_input ? c.lcm_url.c_str() : "");
+    if (c.live_speed != 1.0)
+      std::fprintf(stderr, "estimator_node: the stream's time runs %gx the wall clock (--live-speed)\n", c.live_speed);
     const TimeNs end_ns = c.duration_s > 0.0 ? monotonic.now_ns() + static_cast<TimeNs>(c.duration_s * 1.0e9) : 0;
     hal::socketcan::RxFrame frames[64];
     while (g_stop_signal.load() == 0) {
@@ -483,11 +515,12 @@ struct Node::Impl {
     std::fprintf(f, "estimator_node summary (%s%s)\n", replay ? "replay" : "live",
                  stop_signal == SIGINT ? ", stopped by SIGINT" : stop_signal == SIGTERM ? ", stopped by SIGTERM" : "");
     std::fprintf(f, "  map: %s; estimator: %s\n", maps->view.description.c_str(), pipeline->description().c_str());
+    std::fprintf(f, "  initial belief: %s\n", initial_belief(c.spec).c_str());
     if (replay)
       std::fprintf(f, "  log: events=%llu inputs=%llu wall_s=%.3f\n", static_cast<unsigned long long>(log_events),
                    static_cast<unsigned long long>(log_inputs), wall_s);
     else
-      std::fprintf(f, "  run: wall_s=%.3f\n", wall_s);
+      std::fprintf(f, "  run: wall_s=%.3f live_speed=%g\n", wall_s, c.live_speed);
     if (alignment && alignment->aligned())
       std::fprintf(f, "  stamps: aligned at the first message on %s, offset_s=%.6f streams_left=%llu\n",
                    alignment->first_channel().c_str(), static_cast<double>(alignment->offset_ns()) * 1.0e-9,
@@ -515,6 +548,12 @@ struct Node::Impl {
     if (lcm_inputs)
       std::fprintf(f, "  rejects.lcm:%s accepted=%llu\n", reason_list<hal::lcm::LcmReject>(lcm_inputs->rejects()).c_str(),
                    static_cast<unsigned long long>(lcm_inputs->accepted()));
+    if (!replay && lcm_in) {
+      // Live over udpm: what the kernel dropped before LCM saw it (a full receive buffer: the node fell behind).
+      if (const std::optional<std::uint64_t> drops = udp_drops_at_end)
+        std::fprintf(f, "  lcm_udp: kernel_drops=%llu (datagrams dropped on a full receive buffer)\n",
+                     static_cast<unsigned long long>(*drops));
+    }
     if (can_input) {
       std::fprintf(f, "  rejects.can_frame:%s accepted=%u\n",
                    reason_list<hal::can::FrameReject>(can_input->rejects()).c_str(), can_input->frames_accepted());
@@ -588,6 +627,7 @@ struct Node::Impl {
   std::uint64_t log_events = 0, log_inputs = 0, candump_rejects = 0;
   double wall_s = 0.0;
   int stop_signal = 0;
+  std::optional<std::uint64_t> udp_drops_at_end;  // live LCM: the kernel's drops on the node's sockets
 };
 
 Node::Node(const NodeConfig& config) : impl_(std::make_unique<Impl>(config)) {}

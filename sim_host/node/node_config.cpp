@@ -88,6 +88,11 @@ void add_options(CLI::App& app, NodeConfig& c) {
          "out in the sender's time, as --replay gives them, unless --can inputs share the node clock) or sender "
          "(judged against this node's clock as sent)")
       ->check(CLI::IsMember({"align", "sender"}))->default_str("align")->group(io);
+  app.add_option("--live-speed", c.live_speed,
+                 "live LCM inputs played at this many times real time (lcm-logplayer --speed S): the node's clock "
+                 "runs S times faster than the wall clock, so the HAL's staleness checks, the stamp alignment and the "
+                 "loop's deadlines hold in the stream's time; what the node cannot keep up with is dropped and counted")
+      ->check(CLI::Range(0.01, 1000.0))->default_val(1.0)->group(io);
   app.add_option("--lcm-out", c.lcm_out_url,
                  "LCM URL for the outputs (pose_estimate_t, status_t); default: --lcm's URL, else LCM's default "
                  "(udpm://239.255.76.67:7667?ttl=0 or $LCM_DEFAULT_URL)")
@@ -351,6 +356,8 @@ void finish_options(const CLI::App& app, NodeConfig& c) {
   if (c.replay_speed < 0.0) c.replay_speed = c.view_port != 0 ? 1.0 : 0.0;
   if (c.can_out && c.can_interface.empty()) throw CLI::ValidationError("--can-out", "needs --can IFACE");
   if (app.count("--stamps") > 0 && !c.lcm_input) throw CLI::ValidationError("--stamps", "needs --lcm URL (live)");
+  if (app.count("--live-speed") > 0 && (!c.lcm_input || !c.can_interface.empty()))
+    throw CLI::ValidationError("--live-speed", "needs --lcm URL and no --can (CAN frames carry the kernel's real time)");
   if (e.global == pose_given)
     throw CLI::ValidationError("initial belief", "give exactly one of --initial-pose x,y,theta and --global");
   if (e.filter == est::loop::Filter::ekf && e.global)

@@ -25,6 +25,7 @@ struct NodeConfig {
   // with lcm-logplayer (or a sender on another clock), which the gate would reject wholesale as stale, just works;
   // `sender` is for a rig that wants a sender off the node's clock to show as stale or from-the-future rejects.
   bool align_stamps = true;
+  double live_speed = 1.0;  // live LCM: the stream's pace against the wall clock (lcm-logplayer --speed)
   bool can_out = false;
   std::string replay_path;      // --replay: an LCM log
   std::string replay_can_path;  // --replay-can: a candump log of estimator.dbc frames
