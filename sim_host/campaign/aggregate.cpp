@@ -38,6 +38,14 @@ std::string element_name(const nlohmann::json& e, std::size_t i) {
   return std::to_string(i);
 }
 
+// metrics.json says "none" with -1 for an error or a time that has no value (a run never localized).
+bool none_sentinel(const std::string& name, double v) {
+  if (v != -1.0) return false;
+  for (const char* s : {"rmse", "error", "time_to", "_at_s"})
+    if (name.find(s) != std::string::npos) return true;
+  return false;
+}
+
 void flatten(const nlohmann::json& j, const std::string& path, std::map<std::string, double>& out,
              std::set<std::string>* booleans) {
   if (j.is_object()) {
@@ -51,7 +59,7 @@ void flatten(const nlohmann::json& j, const std::string& path, std::map<std::str
   } else if (j.is_boolean()) {
     out[path] = j.get<bool>() ? 1.0 : 0.0;
     if (booleans != nullptr) booleans->insert(path);
-  } else if (j.is_number()) {
+  } else if (j.is_number() && !none_sentinel(path, j.get<double>())) {
     out[path] = j.get<double>();
   }
 }

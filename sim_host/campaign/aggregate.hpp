@@ -23,7 +23,8 @@ struct SeedResult {
 };
 
 // The numbers of a run's metrics.json by dotted path ("accuracy.rmse_position_m", "robots.1.position_rmse_m",
-// "phases.kidnap_recovery.time_to_localize_s"); booleans as 0/1 (their names added to `booleans`), null left out.
+// "phases.kidnap_recovery.time_to_localize_s"); booleans as 0/1 (their names added to `booleans`), null left out, and so is -1 where
+// metrics.json uses it for "none" (an RMSE, error, time_to_* or *_at_s of a run that never localized).
 // Left out: the run's configuration (scenario, filter, seed) and its wall-clock timing, which no two runs share.
 std::map<std::string, double> flatten_metrics(const nlohmann::json& metrics, std::set<std::string>* booleans = nullptr);
 
