@@ -105,6 +105,7 @@ void plot_aggregate(const fs::path& dir, const ordered& a, const std::vector<See
   std::ofstream gp(dir / "aggregate.gp");
   gp << "set terminal pngcairo size 1200," << 300 * names.size() + 100 << " font ',10'\n"
      << "set output 'aggregate.png'\nset datafile missing 'NaN'\nset grid\nset key outside right\n"
+     << "set offsets 0.5, 0.5, graph 0.05, 0\n" << (seeds.size() <= 30 ? "set xtics 1\n" : "set format x '%.0f'\n")
      << "set multiplot layout " << names.size() << ",1 title 'campaign " << a["campaign"]["scenario"].get<std::string>()
      << ": " << a["seeds"]["succeeded"].get<std::size_t>() << " of " << a["seeds"]["total"].get<std::size_t>()
      << " seeds'\n";
