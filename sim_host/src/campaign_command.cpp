@@ -54,12 +54,9 @@ void add_sweep_command(CLI::App& app) {
     // The scenario and its overrides are checked here, once, before anything runs.
     std::vector<ScenarioOverride> overrides;
     for (const std::string& kv : o->sets) overrides.push_back(parse_override(kv));
-    const ScenarioFile f = load_scenario(o->scenario, overrides);
+    ScenarioFile f = load_scenario(o->scenario, overrides);
     if (duration->count() > 0) {
-      if (!(o->duration_s > 0.0 && o->duration_s <= 3600.0))
-        throw CLI::ValidationError("--duration", "must be in (0, 3600] s");
-      if (f.runner == ScenarioRunner::exercise)
-        throw CLI::ValidationError("--duration", "an exercise draws samples, it has no duration");
+      set_duration(f, o->duration_s);
       k.duration_s = o->duration_s;
     }
     k.scenario = find_builtin_scenario(o->scenario) != nullptr ? o->scenario : fs::absolute(o->scenario).string();

@@ -67,14 +67,7 @@ void add_run_command(CLI::App& app) {
       f.scenario.seed = o->seed;
       f.exercise_seed = o->seed;
     }
-    if (duration->count() > 0) {
-      if (!(o->duration_s > 0.0 && o->duration_s <= 3600.0))
-        throw CLI::ValidationError("--duration", "must be in (0, 3600] s");
-      if (f.runner == ScenarioRunner::exercise)
-        throw CLI::ValidationError("--duration", "an exercise draws samples, it has no duration");
-      f.scenario.duration_s = o->duration_s;
-      f.team_duration_s = o->duration_s;
-    }
+    if (duration->count() > 0) set_duration(f, o->duration_s);
     const std::string out =
         o->out.empty() ? "runs/" + std::filesystem::path(o->scenario).stem().string() : o->out;
     RunOptions ro;

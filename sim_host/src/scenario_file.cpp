@@ -525,6 +525,14 @@ ScenarioFile read_scenario_file(const std::string& path, const std::vector<Scena
   return parse_scenario(s.str(), path, overrides);
 }
 
+void set_duration(ScenarioFile& f, double duration_s) {
+  if (!kDuration.ok(duration_s)) throw ScenarioFileError(std::string("--duration: ") + kDuration.what);
+  if (f.runner == ScenarioRunner::exercise)
+    throw ScenarioFileError("--duration: an exercise draws samples, it has no duration");
+  f.scenario.duration_s = duration_s;
+  f.team_duration_s = duration_s;
+}
+
 std::set<std::string> scenario_file_keys(ScenarioRunner runner) {
   std::set<std::string> keys;
   g_keys = &keys;

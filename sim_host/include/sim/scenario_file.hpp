@@ -58,6 +58,10 @@ ScenarioFile parse_scenario(const std::string& text, const std::string& source,
 // Reads and parses a file from disk; ScenarioFileError also when it cannot be read.
 ScenarioFile read_scenario_file(const std::string& path, const std::vector<ScenarioOverride>& overrides = {});
 
+// `--duration S` of sim_host run and sweep: the run's length in place of the file's; ScenarioFileError
+// ("--duration: reason") outside (0, 3600] s or for an exercise, which has no duration.
+void set_duration(ScenarioFile& f, double duration_s);
+
 // Every key the parser knows, as dotted paths ("sensors.rangefinder.hz"), over all three runners or of one.
 std::set<std::string> scenario_file_keys();
 std::set<std::string> scenario_file_keys(ScenarioRunner runner);
