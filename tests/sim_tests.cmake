@@ -32,3 +32,14 @@ target_compile_definitions(test_sim_host_run PRIVATE SIM_HOST_EXE="$<TARGET_FILE
                            ESTIMATOR_NODE_EXE="$<TARGET_FILE:estimator_node>")
 target_link_libraries(test_sim_host_run PRIVATE hal_lcm)
 add_dependencies(test_sim_host_run sim_host estimator_node)
+# Campaigns (sim_host/campaign/): the aggregator's statistics and folders; sim_host sweep and aggregate end to end.
+est_add_test(campaign_aggregate LIBS sim_campaign)
+est_add_test(sim_host_sweep LIBS sim_campaign)
+target_compile_definitions(test_sim_host_sweep PRIVATE SIM_HOST_EXE="$<TARGET_FILE:sim_host>")
+add_dependencies(test_sim_host_sweep sim_host)
+# The campaign on a single-node Slurm on localhost (tests/slurm/run-slurm-campaign: munged, slurmctld and slurmd
+# started by the test in a temp folder); skipped without root, slurm-wlm, munge or jq.
+add_test(NAME "slurm: the emitted job array on a single-node Slurm aggregates to the local sweep, seed for seed"
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/slurm/run-slurm-campaign $<TARGET_FILE_DIR:sim_host>)
+set_tests_properties("slurm: the emitted job array on a single-node Slurm aggregates to the local sweep, seed for seed"
+                     PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 120)

@@ -268,3 +268,66 @@ TEST_CASE("every built-in scenario parses, describes itself and is the file in t
   CHECK(f.scenario.robot == sim::RobotKind::holonomic);
   std::filesystem::remove(path);
 }
+
+namespace {
+
+// The refusal of `text` with one --set KEY=VALUE, or "" when it parses.
+std::string set_refusal(const std::string& text, const std::string& kv) {
+  try {
+    sim::parse_scenario(text, "f.toml", {sim::parse_override(kv)});
+  } catch (const sim::ScenarioFileError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("an override (--set KEY=VALUE) puts a key by its dotted path, in the file's table or beside it", "[scenario]") {
+  const sim::ScenarioFile f = sim::parse_scenario(
+      "seed = 3\n[filter]\nparticles = 100\n", "f.toml",
+      {sim::parse_override("filter.particles=256"), sim::parse_override("sensors.rangefinder.beams=90"),
+       sim::parse_override("filter.sensor_model=beam"), sim::parse_override("seed=9"),
+       sim::parse_override("faults.counts.scan.stale=2"), sim::parse_override("faults.kidnap_at_s=12.5")});
+  CHECK(f.filter.particles == 256);
+  CHECK(f.scenario.beams == 90);
+  CHECK(f.filter.range_model == node::RangeModel::beam);
+  CHECK(f.scenario.seed == 9);
+  CHECK(f.scenario.faults.at("scan.stale") == 2);
+  CHECK(f.scenario.kidnap_at_s == 12.5);
+  // The later of two overrides of one key wins, as a later line of a file would be refused: the last one counts.
+  CHECK(sim::parse_scenario("", "f.toml", {sim::parse_override("filter.particles=5"),
+                                           sim::parse_override("filter.particles=7")})
+            .filter.particles == 7);
+  // A team scenario reads its file the same way.
+  const sim::ScenarioFile t = sim::load_scenario("coop-slam", {sim::parse_override("team.scenario=coop-slam-team"),
+                                                               sim::parse_override("duration_s=2")});
+  CHECK(t.team == "coop-slam-team");
+  CHECK(t.team_duration_s == 2.0);
+}
+
+TEST_CASE("an override is refused with its key and reason: an unknown key, another runner's key, a wrong value",
+          "[scenario]") {
+  CHECK(set_refusal("", "filter.partcles=64") ==
+        "--set filter.partcles=64: unknown key 'filter.partcles' (sim_host/scenarios/example.toml documents every key)");
+  CHECK(set_refusal("", "filter.particles=abc") ==
+        "--set filter.particles=abc: filter.particles: expected an integer, got a string");
+  CHECK(set_refusal("", "filter.particles=0") == "--set filter.particles=0: filter.particles: must be in [1, 20000] (got 0)");
+  CHECK(set_refusal("", "robot.model=tank") ==
+        "--set robot.model=tank: robot.model: 'tank' is not one of bicycle, diff-drive, velocity, odometry, omni, "
+        "holonomic");
+  CHECK(set_refusal("", "sensors.rangefinder.fov_deg=[1,2]") ==
+        "--set sensors.rangefinder.fov_deg=[1,2]: sensors.rangefinder.fov_deg: expected a number, got an array");
+  CHECK(set_refusal("", "faults.counts.scan.nope=2") ==
+        "--set faults.counts.scan.nope=2: faults.counts: unknown fault class 'scan.nope' (sim_host simulate --help "
+        "lists them)");
+  CHECK(set_refusal("[team]\n", "filter.particles=3") ==
+        "--set filter.particles=3: 'filter.particles' is not a key of a team scenario");
+  CHECK(set_refusal("", "team.scenario=coop-slam") ==
+        "--set team.scenario=coop-slam: 'team.scenario' is not a key of a single robot's scenario");
+  CHECK(set_refusal("filter = 3\n", "filter.particles=3") ==
+        "--set filter.particles=3: 'filter' is not a table in the file");
+  CHECK(set_refusal("", "seed='x") == "--set seed='x: not a TOML value");
+  CHECK_THROWS_WITH(sim::parse_override("particles"), "--set particles: expected KEY=VALUE (e.g. filter.particles=256)");
+  CHECK_THROWS_WITH(sim::parse_override("=3"), "--set =3: expected KEY=VALUE (e.g. filter.particles=256)");
+}

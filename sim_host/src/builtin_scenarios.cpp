@@ -23,9 +23,9 @@ const BuiltinScenario* find_builtin_scenario(const std::string& name) {
   return nullptr;
 }
 
-ScenarioFile load_scenario(const std::string& name_or_file) {
-  if (const BuiltinScenario* b = find_builtin_scenario(name_or_file)) return parse_scenario(b->text, b->path);
-  if (std::filesystem::is_regular_file(name_or_file)) return read_scenario_file(name_or_file);
+ScenarioFile load_scenario(const std::string& name_or_file, const std::vector<ScenarioOverride>& overrides) {
+  if (const BuiltinScenario* b = find_builtin_scenario(name_or_file)) return parse_scenario(b->text, b->path, overrides);
+  if (std::filesystem::is_regular_file(name_or_file)) return read_scenario_file(name_or_file, overrides);
   throw std::runtime_error("'" + name_or_file + "' is neither a built-in scenario (sim_host list) nor a file");
 }
 

@@ -13,6 +13,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   sim::add_run_command(app);
   sim::add_list_command(app);
+  sim::add_sweep_command(app);
+  sim::add_aggregate_command(app);
   sim::add_sample_motion_command(app);
   sim::add_simulate_command(app);
   sim::add_record_command(app);

@@ -24,7 +24,7 @@ Progress::Progress(std::string label, double total, bool quiet, Unit unit, doubl
       show_after_s_(show_after_s),
       start_s_(now_s()) {}
 
-void Progress::update(double done) {
+void Progress::update(double done, const std::string& note) {
   if (!enabled_) return;
   const double now = now_s();
   const double elapsed = now - start_s_;
@@ -37,8 +37,8 @@ void Progress::update(double done) {
     std::fprintf(stderr, "\r%s: t %.1f / %.1f s, %.1fx real time, ETA %.0f s   ", label_.c_str(), done, total_,
                  elapsed > 0.0 ? done / elapsed : 0.0, eta);
   else
-    std::fprintf(stderr, "\r%s: %3.0f %% (%.0f / %.0f), %.1f s, ETA %.0f s   ", label_.c_str(), 100.0 * share, done,
-                 total_, elapsed, eta);
+    std::fprintf(stderr, "\r%s: %3.0f %% (%.0f / %.0f), %.1f s, ETA %.0f s%s%s   ", label_.c_str(), 100.0 * share,
+                 done, total_, elapsed, eta, note.empty() ? "" : ", ", note.c_str());
   std::fflush(stderr);
 }
 

@@ -5,6 +5,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "sim/builtin_scenarios.hpp"
 #include "sim/commands.hpp"
@@ -27,6 +28,7 @@ const char* runner_name(ScenarioRunner r) {
 void add_run_command(CLI::App& app) {
   struct Options {
     std::string scenario, out;
+    std::vector<std::string> sets;
     std::uint64_t seed = 0;
     double duration_s = 0.0;
     bool quiet = false, no_plots = false, view_wait = false;
@@ -42,6 +44,11 @@ void add_run_command(CLI::App& app) {
       "figures, as simulate) and prints its summary.");
   c->add_option("scenario", o->scenario, "NAME of a built-in scenario, or a FILE")->required();
   CLI::Option* seed = c->add_option("--seed", o->seed, "overrides the scenario's seed");
+  c->add_option("--set", o->sets,
+                "KEY=VALUE: overrides a key of the scenario by its dotted path in the file (filter.particles=256, "
+                "faults.counts.scan.stale=3; repeatable); refused with the key and the reason when the scenario does "
+                "not read that key or the value does not fit it")
+      ->allow_extra_args(false);
   CLI::Option* duration = c->add_option("--duration", o->duration_s, "overrides the scenario's duration, s");
   c->add_option("--out", o->out, "output directory (created; default: runs/NAME)");
   c->add_flag("--quiet", o->quiet, "no progress line on a terminal");
@@ -53,19 +60,14 @@ void add_run_command(CLI::App& app) {
       ->capture_default_str()->check(CLI::NonNegativeNumber);
   c->add_flag("--view-wait", o->view_wait, "with --view: start the run once a viewer has subscribed");
   c->callback([o, seed, duration]() {
-    ScenarioFile f = load_scenario(o->scenario);
+    std::vector<ScenarioOverride> overrides;
+    for (const std::string& kv : o->sets) overrides.push_back(parse_override(kv));
+    ScenarioFile f = load_scenario(o->scenario, overrides);
     if (seed->count() > 0) {
       f.scenario.seed = o->seed;
       f.exercise_seed = o->seed;
     }
-    if (duration->count() > 0) {
-      if (!(o->duration_s > 0.0 && o->duration_s <= 3600.0))
-        throw CLI::ValidationError("--duration", "must be in (0, 3600] s");
-      if (f.runner == ScenarioRunner::exercise)
-        throw CLI::ValidationError("--duration", "an exercise draws samples, it has no duration");
-      f.scenario.duration_s = o->duration_s;
-      f.team_duration_s = o->duration_s;
-    }
+    if (duration->count() > 0) set_duration(f, o->duration_s);
     const std::string out =
         o->out.empty() ? "runs/" + std::filesystem::path(o->scenario).stem().string() : o->out;
     RunOptions ro;

@@ -27,6 +27,13 @@ std::string located(const std::string& source, const toml::source_position& at, 
   return s.str();
 }
 
+// A --set value is parsed as its own document named "--set KEY=VALUE": a refusal of it names the option, not a line.
+constexpr std::string_view kSetPrefix = "--set ";
+std::string located(const std::string& source, const toml::source_region& at, const std::string& reason) {
+  if (at.path != nullptr && at.path->rfind(kSetPrefix, 0) == 0) return *at.path + ": " + reason;
+  return located(source, at.begin, reason);
+}
+
 const char* type_name(toml::node_type t) {
   switch (t) {
     case toml::node_type::table: return "a table";
@@ -69,9 +76,9 @@ class Section {
       : source_(source), t_(t), path_(std::move(path)), at_(at) {}
 
   [[noreturn]] void fail(const toml::node& n, const std::string& reason) const {
-    throw ScenarioFileError(located(source_, n.source().begin, reason));
+    throw ScenarioFileError(located(source_, n.source(), reason));
   }
-  [[noreturn]] void fail_at(const toml::source_position& at, const std::string& reason) const {
+  [[noreturn]] void fail_at(const toml::source_region& at, const std::string& reason) const {
     throw ScenarioFileError(located(source_, at, reason));
   }
 
@@ -180,7 +187,7 @@ class Section {
       if (read_.count(std::string(k.str())) > 0) continue;
       const toml::source_region& at = k.source().begin.line > 0 ? k.source() : v.source();
       throw ScenarioFileError(
-          located(source_, at.begin, "unknown key '" + name(std::string(k.str()).c_str()) + "'" + hint_));
+          located(source_, at, "unknown key '" + name(std::string(k.str()).c_str()) + "'" + hint_));
     }
   }
 
@@ -324,9 +331,9 @@ void read_faults(Section& f, ScenarioConfig& s, bool ekf) {
       bool known = false;
       for (const FaultClassInfo& c : fault_catalogue()) known = known || c.key == key;
       if (!known)
-        f.fail_at(k.source().begin, "faults.counts: unknown fault class '" + key + "' (sim_host simulate --help lists them)");
+        f.fail_at(k.source(), "faults.counts: unknown fault class '" + key + "' (sim_host simulate --help lists them)");
       if (!fault_applies(s.robot, key, s.steering_sensor, landmarks))
-        f.fail_at(k.source().begin, "faults.counts: '" + key + "' does not apply to this robot and world");
+        f.fail_at(k.source(), "faults.counts: '" + key + "' does not apply to this robot and world");
       const auto* c = v.as_integer();
       if (c == nullptr || c->get() < 0 || c->get() > 1000)
         f.fail(v, "faults.counts: '" + key + "' must be an integer count in [0, 1000]");
@@ -415,15 +422,88 @@ void read_simulate(Section& top, ScenarioFile& out) {
   metrics.done();
 }
 
+const char* runner_noun(ScenarioRunner r) {
+  switch (r) {
+    case ScenarioRunner::simulate: return "a single robot's scenario";
+    case ScenarioRunner::team: return "a team scenario";
+    case ScenarioRunner::exercise: return "an exercise";
+  }
+  return "?";
+}
+
+ScenarioRunner runner_of(const toml::table& doc) {
+  if (doc.contains("team")) return ScenarioRunner::team;
+  if (doc.contains("exercise")) return ScenarioRunner::exercise;
+  return ScenarioRunner::simulate;
+}
+
+// Puts one --set into the document, at its dotted path, as if the file had said it; the value keeps the option as
+// its source, so the parser's own checks refuse it by the option's name.
+void apply_override(toml::table& doc, const ScenarioOverride& o) {
+  const std::string where = std::string(kSetPrefix) + o.key + "=" + o.value;
+  const auto refuse = [&](const std::string& reason) { throw ScenarioFileError(where + ": " + reason); };
+  const ScenarioRunner runner = runner_of(doc);
+  // faults.counts is a table of "stream.class" keys: what follows it is one key, dots and all.
+  const std::string counts = "faults.counts.";
+  const bool fault_count = o.key.rfind(counts, 0) == 0 && o.key.size() > counts.size();
+  if (!fault_count && scenario_file_keys(runner).count(o.key) == 0) {
+    if (scenario_file_keys().count(o.key) > 0)
+      refuse("'" + o.key + "' is not a key of " + runner_noun(runner));
+    refuse("unknown key '" + o.key + "' (sim_host/scenarios/example.toml documents every key)");
+  }
+  if (fault_count && runner != ScenarioRunner::simulate) refuse("'faults.counts' is not a key of " + std::string(runner_noun(runner)));
+  toml::table value;
+  try {
+    value = toml::parse("v = " + o.value, where);
+  } catch (const toml::parse_error&) {
+    // A bare word is a string (filter.type=ekf), unless it cannot be one.
+    if (o.value.find_first_of("'\r\n") != std::string::npos) refuse("not a TOML value");
+    try {
+      value = toml::parse("v = '" + o.value + "'", where);
+    } catch (const toml::parse_error&) {
+      refuse("not a TOML value");
+    }
+  }
+  std::vector<std::string> path;
+  if (fault_count) path = {"faults", "counts", o.key.substr(counts.size())};
+  else
+    for (std::size_t at = 0, dot = 0; dot != std::string::npos; at = dot + 1) {
+      dot = o.key.find('.', at);
+      path.push_back(o.key.substr(at, dot == std::string::npos ? std::string::npos : dot - at));
+    }
+  toml::table* t = &doc;
+  std::string prefix;
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+    prefix += (i == 0 ? "" : ".") + path[i];
+    toml::node* n = t->get(path[i]);
+    if (n == nullptr) n = t->insert(path[i], toml::table{}).first->second.as_table();
+    if (n == nullptr || !n->is_table()) refuse("'" + prefix + "' is not a table in the file");
+    t = n->as_table();
+  }
+  toml::node& v = *value.get("v");
+  v.visit([&](auto&& x) {
+    t->insert_or_assign(toml::key(path.back(), toml::source_region(v.source())), std::move(x));
+  });
+}
+
 }  // namespace
 
-ScenarioFile parse_scenario(const std::string& text, const std::string& source) {
+ScenarioOverride parse_override(const std::string& key_equals_value) {
+  const std::size_t eq = key_equals_value.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw ScenarioFileError(std::string(kSetPrefix) + key_equals_value + ": expected KEY=VALUE (e.g. filter.particles=256)");
+  return {key_equals_value.substr(0, eq), key_equals_value.substr(eq + 1)};
+}
+
+ScenarioFile parse_scenario(const std::string& text, const std::string& source,
+                            const std::vector<ScenarioOverride>& overrides) {
   toml::table doc;
   try {
     doc = toml::parse(text, source);
   } catch (const toml::parse_error& e) {
     throw ScenarioFileError(located(source, e.source().begin, std::string(e.description())));
   }
+  for (const ScenarioOverride& o : overrides) apply_override(doc, o);
   ScenarioFile out;
   out.source = source;
   Section top(out.source, &doc, "", {1, 1});
@@ -437,26 +517,42 @@ ScenarioFile parse_scenario(const std::string& text, const std::string& source) 
   return out;
 }
 
-ScenarioFile read_scenario_file(const std::string& path) {
+ScenarioFile read_scenario_file(const std::string& path, const std::vector<ScenarioOverride>& overrides) {
   std::ifstream f(path, std::ios::binary);
   if (!f) throw ScenarioFileError(path + ":1:1: cannot read the file");
   std::ostringstream s;
   s << f.rdbuf();
-  return parse_scenario(s.str(), path);
+  return parse_scenario(s.str(), path, overrides);
 }
 
-std::set<std::string> scenario_file_keys() {
+void set_duration(ScenarioFile& f, double duration_s) {
+  if (!kDuration.ok(duration_s)) throw ScenarioFileError(std::string("--duration: ") + kDuration.what);
+  if (f.runner == ScenarioRunner::exercise)
+    throw ScenarioFileError("--duration: an exercise draws samples, it has no duration");
+  f.scenario.duration_s = duration_s;
+  f.team_duration_s = duration_s;
+}
+
+std::set<std::string> scenario_file_keys(ScenarioRunner runner) {
   std::set<std::string> keys;
   g_keys = &keys;
   try {
-    parse_scenario("", "keys");
-    parse_scenario("[team]\n", "keys");
-    parse_scenario("[exercise]\n", "keys");
+    parse_scenario(runner == ScenarioRunner::team       ? "[team]\n"
+                   : runner == ScenarioRunner::exercise ? "[exercise]\n"
+                                                        : "",
+                   "keys");
   } catch (...) {
     g_keys = nullptr;
     throw;
   }
   g_keys = nullptr;
+  return keys;
+}
+
+std::set<std::string> scenario_file_keys() {
+  std::set<std::string> keys;
+  for (ScenarioRunner r : {ScenarioRunner::simulate, ScenarioRunner::team, ScenarioRunner::exercise})
+    keys.merge(scenario_file_keys(r));
   return keys;
 }
 

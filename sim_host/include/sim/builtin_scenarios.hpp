@@ -16,8 +16,8 @@ struct BuiltinScenario {
 const std::vector<BuiltinScenario>& builtin_scenarios();  // by name
 const BuiltinScenario* find_builtin_scenario(const std::string& name);  // null when none
 
-// NAME of a built-in scenario, else a FILE read from disk. Throws ScenarioFileError for a malformed scenario and
-// std::runtime_error when it is neither a built-in nor a readable file.
-ScenarioFile load_scenario(const std::string& name_or_file);
+// NAME of a built-in scenario, else a FILE read from disk, with its --set overrides. Throws ScenarioFileError for a
+// malformed scenario or a refused override and std::runtime_error when it is neither a built-in nor a readable file.
+ScenarioFile load_scenario(const std::string& name_or_file, const std::vector<ScenarioOverride>& overrides = {});
 
 }  // namespace sim

@@ -17,6 +17,11 @@ void add_record_command(CLI::App& app);
 void add_run_command(CLI::App& app);
 void add_list_command(CLI::App& app);
 
+// sweep: a scenario over many seeds, here or as a Slurm job array; aggregate: a campaign's folder
+// (src/campaign_command.cpp).
+void add_sweep_command(CLI::App& app);
+void add_aggregate_command(CLI::App& app);
+
 // learn-beam-model: EM for the beam model's intrinsic parameters from a recorded log (src/learn_beam_model_command.cpp).
 void add_learn_beam_model_command(CLI::App& app);
 

@@ -11,7 +11,7 @@ class Progress {
   enum class Unit { count, simulated_s };
   // `show_after_s`: nothing is drawn before this much wall time (a short run stays silent).
   Progress(std::string label, double total, bool quiet = false, Unit unit = Unit::count, double show_after_s = 0.0);
-  void update(double done);  // redraws at most ten times a second
+  void update(double done, const std::string& note = "");  // redraws at most ten times a second; `note` after it
   void finish();             // the final line, then a newline (only when something was drawn)
   bool enabled() const { return enabled_; }
 

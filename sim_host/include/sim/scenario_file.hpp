@@ -8,6 +8,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "sim/scenario.hpp"
 #include "sim/simulate.hpp"
@@ -38,14 +39,31 @@ class ScenarioFileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Parses `text` as the scenario file `source` (the name errors give; relative map paths are taken from its folder).
-// Throws ScenarioFileError on malformed TOML, an unknown key, a value of the wrong type or out of range, or keys
-// that contradict each other (e.g. --handlebar on a robot that is not the bicycle).
-ScenarioFile parse_scenario(const std::string& text, const std::string& source);
-// Reads and parses a file from disk; ScenarioFileError also when it cannot be read.
-ScenarioFile read_scenario_file(const std::string& path);
+// One `--set KEY=VALUE`: a key by its dotted path in the file ("filter.particles", "faults.counts.scan.stale") and
+// a TOML value (256, 0.5, true, "ekf"; a bare word is taken as a string: filter.type=ekf).
+struct ScenarioOverride {
+  std::string key;
+  std::string value;
+};
+// Splits "KEY=VALUE"; ScenarioFileError ("--set TEXT: ...") when there is no '=' or no key.
+ScenarioOverride parse_override(const std::string& key_equals_value);
 
-// Every key the parser knows, as dotted paths ("sensors.rangefinder.hz"), over all three runners.
+// Parses `text` as the scenario file `source` (the name errors give; relative map paths are taken from its folder),
+// with `overrides` put in place of (or beside) the file's keys before it is read. Throws ScenarioFileError on
+// malformed TOML, an unknown key, a value of the wrong type or out of range, or keys that contradict each other
+// (e.g. --handlebar on a robot that is not the bicycle); an override's refusal is "--set KEY=VALUE: reason" (a key
+// this runner does not read, a value that is not TOML, or any refusal of the value itself).
+ScenarioFile parse_scenario(const std::string& text, const std::string& source,
+                            const std::vector<ScenarioOverride>& overrides = {});
+// Reads and parses a file from disk; ScenarioFileError also when it cannot be read.
+ScenarioFile read_scenario_file(const std::string& path, const std::vector<ScenarioOverride>& overrides = {});
+
+// `--duration S` of sim_host run and sweep: the run's length in place of the file's; ScenarioFileError
+// ("--duration: reason") outside (0, 3600] s or for an exercise, which has no duration.
+void set_duration(ScenarioFile& f, double duration_s);
+
+// Every key the parser knows, as dotted paths ("sensors.rangefinder.hz"), over all three runners or of one.
 std::set<std::string> scenario_file_keys();
+std::set<std::string> scenario_file_keys(ScenarioRunner runner);
 
 }  // namespace sim
