@@ -13,8 +13,10 @@ est_add_test(sim_team_diffdrive LIBS sim_team)
 target_compile_definitions(test_sim_team_diffdrive PRIVATE SIM_HOST_EXE="$<TARGET_FILE:sim_host>")
 add_dependencies(test_sim_team_diffdrive sim_host)
 est_add_test(sim_team_coop LIBS sim_team)
-target_compile_definitions(test_sim_team_coop PRIVATE SIM_HOST_EXE="$<TARGET_FILE:sim_host>")
-add_dependencies(test_sim_team_coop sim_host)
+target_compile_definitions(test_sim_team_coop PRIVATE SIM_HOST_EXE="$<TARGET_FILE:sim_host>"
+                           ESTIMATOR_NODE_EXE="$<TARGET_FILE:estimator_node>")
+target_link_libraries(test_sim_team_coop PRIVATE hal_lcm)
+add_dependencies(test_sim_team_coop sim_host estimator_node)
 # Real data (sim_host/data): each importer and evaluation on a short slice of its dataset, in process; skipped
 # without ../shared/datasets (tests/support/datasets.hpp).
 est_add_test(data_common LIBS sim_data)
