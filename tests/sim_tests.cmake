@@ -34,3 +34,8 @@ target_compile_definitions(test_sim_host_run PRIVATE SIM_HOST_EXE="$<TARGET_FILE
                            ESTIMATOR_NODE_EXE="$<TARGET_FILE:estimator_node>")
 target_link_libraries(test_sim_host_run PRIVATE hal_lcm)
 add_dependencies(test_sim_host_run sim_host estimator_node)
+# sim_host run --live (sim/live_run.hpp): real time against estimator_node processes over udpm (~20 s; SERIAL, like
+# the stamp alignment's test: real time against the nodes' clocks; skipped where udpm multicast does not work).
+est_add_test(live_run SERIAL LIBS hal_lcm nlohmann_json::nlohmann_json)
+target_compile_definitions(test_live_run PRIVATE SIM_HOST_EXE="$<TARGET_FILE:sim_host>")
+add_dependencies(test_live_run sim_host estimator_node)

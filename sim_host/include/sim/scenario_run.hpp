@@ -20,8 +20,8 @@ struct RunOptions {
   double view_speed = 1.0;
   bool view_wait = false;
   // After the lockstep run, the run again live against estimator_node processes (sim/live_run.hpp); empty: none.
-  std::string live_lcm_url;
-  LiveOptions live;
+  std::string live_lcm_url{};
+  LiveOptions live{};
 };
 
 void run_scenario(const ScenarioFile& scenario, const RunOptions& options);
