@@ -8,7 +8,8 @@
 // its clock at the first message), so its estimates are the lockstep run's to the bit unless the network lost or
 // delayed a message, which changes MCL's draws from there on (a few centimetres while tracking). So: at least 95 % of
 // the lockstep estimates paired by stamp, the position RMSE within 0.01 m and the time to localize within 0.5 s of
-// the lockstep's, and every input published taken by the node's LCM input. Measured here: kidnapped 8 s, 800 of 800
+// the lockstep's, every input published taken by the node's LCM input, and at most 2 % of them rejected (stale
+// under load) beyond the lockstep's rejects. Measured here: kidnapped 8 s, 800 of 800
 // estimates identical to the bit, 920 of 920 inputs; coop-slam-team 5 s, 50 of 50 per robot identical, the team lines
 // identical.
 #include <catch2/catch.hpp>
@@ -23,6 +24,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "node_harness.hpp"
 #include "scratch_dir.hpp"
 
 #ifndef SIM_HOST_EXE
@@ -34,26 +36,9 @@ namespace {
 namespace fs = std::filesystem;
 using est::test::slurp;
 
-// Whether LCM udpm on `url` delivers here: an instance hears its own messages through multicast loopback.
-bool udpm_works(const std::string& url) {
-  ::lcm::LCM lcm(url);
-  if (!lcm.good()) return false;
-  struct Heard {
-    bool any = false;
-    void on(const ::lcm::ReceiveBuffer*, const std::string&) { any = true; }
-  } heard;
-  lcm.subscribe("EST_UDPM_PROBE", &Heard::on, &heard);
-  const char probe[] = "probe";
-  for (int i = 0; i < 20 && !heard.any; ++i) {
-    lcm.publish("EST_UDPM_PROBE", probe, sizeof probe);
-    lcm.handleTimeout(100);
-  }
-  return heard.any;
-}
-
 std::string url_or_skip() {
   const std::string url = "udpm://239.255.76.67:" + std::to_string(20000 + getpid() % 20000) + "?ttl=0";
-  if (!udpm_works(url)) {
+  if (!est::test::udpm_works(url)) {
     std::fprintf(stderr, "SKIP: LCM udpm multicast does not work here (%s)\n", url.c_str());
     std::fflush(stderr);
     std::_Exit(77);
@@ -93,7 +78,10 @@ TEST_CASE("sim_host run kidnapped --live: estimator_node over udpm in real time 
         Approx(k.at("phases")[0].at("time_to_localize_s").get<double>()).margin(0.5));
   CHECK(j.at("inputs").at("all_accounted").get<bool>());
   CHECK(j.at("inputs").at("published").get<int>() > 900);
-  CHECK(l.at("inputs_rejected") == k.at("inputs_rejected"));
+  // Every input counted: taken, or rejected with a reason. The lockstep run rejects none; live, a machine loaded
+  // beside the test (load 7 on 2 cores) made a few late past the gate's 100 ms in the stamp alignment's test.
+  CHECK(l.at("inputs_rejected").get<double>() <=
+        k.at("inputs_rejected").get<double>() + 0.02 * j.at("inputs").at("published").get<double>());
   CHECK(j.at("nodes")[0].at("exit_status") == 0);
   std::printf("live kidnapped 8 s: %g of %g estimates paired, %g identical; RMSE %.4f m live, %.4f m lockstep\n",
               j.at("paired").at("matched").get<double>(), n, j.at("paired").at("identical").get<double>(),
