@@ -13,8 +13,10 @@ est_add_test(sim_team_diffdrive LIBS sim_team)
 target_compile_definitions(test_sim_team_diffdrive PRIVATE SIM_HOST_EXE="$<TARGET_FILE:sim_host>")
 add_dependencies(test_sim_team_diffdrive sim_host)
 est_add_test(sim_team_coop LIBS sim_team)
-target_compile_definitions(test_sim_team_coop PRIVATE SIM_HOST_EXE="$<TARGET_FILE:sim_host>")
-add_dependencies(test_sim_team_coop sim_host)
+target_compile_definitions(test_sim_team_coop PRIVATE SIM_HOST_EXE="$<TARGET_FILE:sim_host>"
+                           ESTIMATOR_NODE_EXE="$<TARGET_FILE:estimator_node>")
+target_link_libraries(test_sim_team_coop PRIVATE hal_lcm)
+add_dependencies(test_sim_team_coop sim_host estimator_node)
 # Real data (sim_host/data): each importer and evaluation on a short slice of its dataset, in process; skipped
 # without ../shared/datasets (tests/support/datasets.hpp).
 est_add_test(data_common LIBS sim_data)
@@ -43,3 +45,8 @@ add_test(NAME "slurm: the emitted job array on a single-node Slurm aggregates to
          COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/slurm/run-slurm-campaign $<TARGET_FILE_DIR:sim_host>)
 set_tests_properties("slurm: the emitted job array on a single-node Slurm aggregates to the local sweep, seed for seed"
                      PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 120)
+# sim_host run --live (sim/live_run.hpp): real time against estimator_node processes over udpm (~20 s; SERIAL, like
+# the stamp alignment's test: real time against the nodes' clocks; skipped where udpm multicast does not work).
+est_add_test(live_run SERIAL LIBS hal_lcm nlohmann_json::nlohmann_json)
+target_compile_definitions(test_live_run PRIVATE SIM_HOST_EXE="$<TARGET_FILE:sim_host>")
+add_dependencies(test_live_run sim_host estimator_node)

@@ -43,7 +43,8 @@ TEST_CASE("diffdrive-landmarks localizes all three robots and resolves which tag
   const fs::path out = dir.path / "run";
   REQUIRE(run("--seed 2 --duration " + std::string(kDuration) + " --out '" + out.string() + "'",
               dir.path / "run.log") == 0);
-  for (const char* f : {"metrics.json", "trajectory.csv", "assignment_belief.png", "trajectory.png"})
+  for (const char* f :
+       {"metrics.json", "trajectory.csv", "assignment_belief.png", "trajectory.png", "run.lcmlog", "run.lcmlog.json"})
     CHECK(fs::exists(out / f));
   for (const char* png : {"assignment_belief.png", "trajectory.png"}) {
     const std::string bytes = slurp(out / png);

@@ -154,23 +154,6 @@ namespace {
 const std::string kNode = ESTIMATOR_NODE_EXE;
 const std::string kSim = SIM_HOST_EXE;
 
-// Whether LCM udpm on `url` delivers here: an instance hears its own messages through multicast loopback.
-bool udpm_works(const std::string& url) {
-  ::lcm::LCM lcm(url);
-  if (!lcm.good()) return false;
-  struct Heard {
-    bool any = false;
-    void on(const ::lcm::ReceiveBuffer*, const std::string&) { any = true; }
-  } heard;
-  lcm.subscribe("EST_UDPM_PROBE", &Heard::on, &heard);
-  const char probe[] = "probe";
-  for (int i = 0; i < 20 && !heard.any; ++i) {
-    lcm.publish("EST_UDPM_PROBE", probe, sizeof probe);
-    lcm.handleTimeout(100);
-  }
-  return heard.any;
-}
-
 // The sum of `key=` over the summary's lines that start with `prefix` (e.g. every "  rejects.<sensor>:" line).
 long long summary_sum(const std::string& summary, const std::string& prefix, const std::string& key) {
   long long sum = 0;

@@ -8,6 +8,8 @@
 #include <lcm/lcm-cpp.hpp>
 #include <stdexcept>
 
+#include <est_lcm/pose_estimate_t.hpp>
+
 #include "hal/lcm/lcm_backend.hpp"
 #include "hal/lcm/lcm_guard.hpp"
 #include "hal/team/lcm.hpp"
@@ -37,6 +39,7 @@ double now_s() {
 }  // namespace
 
 std::string own_team_channel(std::int32_t robot_id) { return "EST_TEAM_OWN_" + std::to_string(robot_id); }
+std::string team_pose_channel(std::int32_t robot_id) { return "EST_POSE_" + std::to_string(robot_id); }
 
 void add_team_node_options(CLI::App& app, TeamNodeConfig& c) {
   const char* g = "Team node (--filter coop-ekf)";
@@ -51,6 +54,9 @@ void add_team_node_options(CLI::App& app, TeamNodeConfig& c) {
   app.add_option("--team-out", c.out_path, "one line per closed step: seq, status, the team's mean (hex floats), "
                                           "a digest of its covariance")->group(g);
   app.add_option("--team-counts", c.counts_path, "every counter at the end, a 'name value' line each")->group(g);
+  app.add_option("--replay", c.replay_path,
+                 "a team run's LCM log (sim_host run's run.lcmlog): EST_TEAM_OWN_<id> as the own messages, the other "
+                 "EST_TEAM_OWN_<b> as the team's, in lockstep; nothing published")->check(CLI::ExistingFile)->group(g);
   app.add_option("--duration", c.duration_s, "stop after this many seconds (0: no limit)")
       ->capture_default_str()->check(CLI::NonNegativeNumber)->group(g);
   app.add_option("--idle-exit", c.idle_exit_s, "stop this many seconds after the own messages stopped (0: never)")
@@ -92,6 +98,8 @@ struct TeamNode::Impl {
   hal::lcm::LcmRejectCounters decode_rejects;
   std::uint32_t own_received = 0, own_refused = 0, published = 0, dropped_out = 0, echoes = 0;
   double last_own_s = -1.0;
+  std::string pose_channel;
+  std::uint32_t poses_published = 0;
 
   static hal::lcm::Channels channels(const TeamNodeConfig& c) {
     hal::lcm::Channels ch;
@@ -99,8 +107,10 @@ struct TeamNode::Impl {
     return ch;
   }
 
+  // A replay publishes nothing: its LCM is the in-process one.
   explicit Impl(const TeamNodeConfig& c)
-      : cfg(c), lcm(c.lcm_url), out(lcm, channels(c)), validator(c.spec.estimator.robots, c.robot_id) {
+      : cfg(c), lcm(c.replay_path.empty() ? c.lcm_url : "memq://"), out(lcm, channels(c)),
+        validator(c.spec.estimator.robots, c.robot_id), pose_channel(team_pose_channel(c.robot_id)) {
     if (!lcm.good()) throw std::invalid_argument("LCM could not start on '" + c.lcm_url + "'");
     start_team(cfg.spec, window, est);
     if (!cfg.out_path.empty()) {
@@ -121,11 +131,43 @@ struct TeamNode::Impl {
     return r == hal::lcm::LcmReject::none;
   }
 
+  void close(std::uint32_t seq, const est::team::TeamMessage* const* msgs) {
+    est.step(seq, msgs);
+    if (lines.is_open()) lines << team_estimate_line(seq, est) << "\n";
+    if (!cfg.replay_path.empty()) return;
+    // The own robot's estimate, at the step's stamp (its messages all carry it).
+    est_lcm::pose_estimate_t p{};
+    for (std::int32_t a = 0; a < cfg.spec.estimator.robots; ++a)
+      if (msgs[a] != nullptr) {
+        p.stamp_ns = msgs[a]->stamp_ns;
+        break;
+      }
+    const auto& slam = est.slam();
+    p.x_m = slam.robot(cfg.robot_id)(0);
+    p.y_m = slam.robot(cfg.robot_id)(1);
+    p.covariance[0] = slam.covariance()(2 * cfg.robot_id, 2 * cfg.robot_id);
+    p.covariance[1] = p.covariance[3] = slam.covariance()(2 * cfg.robot_id, 2 * cfg.robot_id + 1);
+    p.covariance[4] = slam.covariance()(2 * cfg.robot_id + 1, 2 * cfg.robot_id + 1);
+    if (lcm.publish(pose_channel, &p) == 0) ++poses_published;
+  }
+
   void push(const est::team::TeamMessage& m) {
-    window.push(m, [this](std::uint32_t seq, const est::team::TeamMessage* const* msgs) {
-      est.step(seq, msgs);
-      if (lines.is_open()) lines << team_estimate_line(seq, est) << "\n";
-    });
+    window.push(m, [this](std::uint32_t seq, const est::team::TeamMessage* const* msgs) { close(seq, msgs); });
+  }
+
+  // The log's EST_TEAM_OWN_<b>, each as it would have come in live: the own robot's, or a teammate's.
+  void replay() {
+    ::lcm::LogFile log(cfg.replay_path, "r");
+    if (!log.good()) throw std::invalid_argument("cannot read the LCM log " + cfg.replay_path);
+    const std::string prefix = "EST_TEAM_OWN_";
+    while (const ::lcm::LogEvent* e = log.readNextEvent()) {
+      if (e->channel.compare(0, prefix.size(), prefix) != 0) continue;
+      ::lcm::ReceiveBuffer b{e->data, static_cast<std::uint32_t>(e->datalen), e->timestamp};
+      if (e->channel == cfg.own_channel)
+        on_own(&b, e->channel);
+      else
+        on_team(&b, e->channel);
+    }
   }
 
   // The robot's own message: into its window, and out to the team (unless the lossy network drops it).
@@ -141,6 +183,8 @@ struct TeamNode::Impl {
     const bool silent = scratch.seq >= cfg.silent_from && scratch.seq <= cfg.silent_to && cfg.silent_to > 0;
     if (silent || dropped(cfg.seed, cfg.robot_id, scratch.seq, cfg.drop_share)) {
       ++dropped_out;
+    } else if (!cfg.replay_path.empty()) {
+      // a replay: the team's messages are in the log
     } else {
       out.publish_team(scratch);
       ++published;
@@ -167,18 +211,20 @@ int TeamNode::run() {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   const double t0 = now_s();
-  while (g_stop == 0) {
+  if (!m.cfg.replay_path.empty())
+    m.replay();
+  else if (!m.cfg.quiet)
+    std::fprintf(stderr, "estimator_node coop-ekf robot %d: running (own %s, team %s, estimates %s)\n", m.cfg.robot_id,
+                 m.cfg.own_channel.c_str(), m.cfg.team_channel.c_str(), m.pose_channel.c_str());
+  while (g_stop == 0 && m.cfg.replay_path.empty()) {
     m.lcm.handleTimeout(20);
     const double t = now_s();
     if (m.cfg.duration_s > 0.0 && t - t0 >= m.cfg.duration_s) break;
     if (m.cfg.idle_exit_s > 0.0 && m.last_own_s >= 0.0 && t - m.last_own_s >= m.cfg.idle_exit_s) break;
   }
   // Let the teammates' last messages in, then close what is open.
-  for (int i = 0; i < 10; ++i) m.lcm.handleTimeout(20);
-  m.window.flush([&m](std::uint32_t seq, const est::team::TeamMessage* const* msgs) {
-    m.est.step(seq, msgs);
-    if (m.lines.is_open()) m.lines << team_estimate_line(seq, m.est) << "\n";
-  });
+  for (int i = 0; i < 10 && m.cfg.replay_path.empty(); ++i) m.lcm.handleTimeout(20);
+  m.window.flush([&m](std::uint32_t seq, const est::team::TeamMessage* const* msgs) { m.close(seq, msgs); });
   m.lines.flush();
   if (!m.cfg.counts_path.empty()) {
     std::ofstream c(m.cfg.counts_path);
@@ -202,10 +248,11 @@ void TeamNode::print_summary(std::FILE* f) const {
   const auto& w = m.window.counters();
   const auto& v = m.validator.counts();
   using est::team::TeamReject;
-  std::fprintf(f, "estimator_node coop-ekf robot %d of %d: %u own messages (%u refused), %u published, %u dropped by "
-                  "--drop-share or --silent-steps, %u came back (multicast loop)\n",
-               m.cfg.robot_id, m.cfg.spec.estimator.robots, m.own_received, m.own_refused, m.published, m.dropped_out,
-               m.echoes);
+  std::fprintf(f, "estimator_node coop-ekf robot %d of %d%s: %u own messages (%u refused), %u published, %u dropped by "
+                  "--drop-share or --silent-steps, %u came back (multicast loop); %u estimates on %s\n",
+               m.cfg.robot_id, m.cfg.spec.estimator.robots, m.cfg.replay_path.empty() ? "" : " (replay)",
+               m.own_received, m.own_refused, m.published, m.dropped_out, m.echoes, m.poses_published,
+               m.pose_channel.c_str());
   std::fprintf(f, "  team messages in: %u in order, %u out of order; refused: %u malformed, %u unknown robot, %u "
                   "duplicate; %u undecodable\n", v[TeamReject::none], v[TeamReject::out_of_order],
                v[TeamReject::malformed], v[TeamReject::unknown_robot], v[TeamReject::duplicate],

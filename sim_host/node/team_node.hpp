@@ -3,9 +3,11 @@
 // Live, on LCM: the robot's own step messages (its controls and measurements, as its drivers publish them on
 // EST_TEAM_OWN_<id>) go into its team window and out on the team channel (EST_TEAM) for the others; the others'
 // messages come in from the team channel through the HAL's team validator (hal/team/validator.hpp) into the same
-// window. Every closed step advances the team's estimator and writes one line (--team-out). Nodes of a team that
-// receive the same messages write the same lines, bit for bit. Host only; throws std::invalid_argument on a bad
-// configuration.
+// window. Every closed step advances the team's estimator, writes one line (--team-out) and publishes the node's
+// estimate of its own robot on EST_POSE_<id> (pose_estimate_t; a point robot: heading 0). Nodes of a team that
+// receive the same messages write the same lines, bit for bit. Replay (--replay LOG, a team run's run.lcmlog): the
+// log's EST_TEAM_OWN_<id> as the own messages and every other EST_TEAM_OWN_<b> as the team's, in the log's order,
+// as fast as it goes, nothing published. Host only; throws std::invalid_argument on a bad configuration.
 #include <cstdint>
 #include <cstdio>
 #include <memory>
@@ -27,6 +29,7 @@ struct TeamNodeConfig {
   std::string team_channel = "EST_TEAM";
   std::string out_path;       // --team-out: one line per closed step
   std::string counts_path;    // --team-counts: every counter at the end, a "name value" line each
+  std::string replay_path;    // --replay: a team run's log instead of live LCM
   double duration_s = 0.0;    // stop after this long (0: no limit)
   double idle_exit_s = 0.0;   // > 0: stop this long after the robot's own messages stopped (the end of a played log)
   double drop_share = 0.0;    // the publisher drops this share of its team messages (a lossy network, reproducibly)
@@ -36,6 +39,7 @@ struct TeamNodeConfig {
 };
 
 std::string own_team_channel(std::int32_t robot_id);
+std::string team_pose_channel(std::int32_t robot_id);  // EST_POSE_<id>
 
 void add_team_node_options(CLI::App& app, TeamNodeConfig& c);
 void finish_team_node_options(TeamNodeConfig& c);  // throws CLI::ValidationError

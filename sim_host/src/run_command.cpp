@@ -31,7 +31,8 @@ void add_run_command(CLI::App& app) {
     std::vector<std::string> sets;
     std::uint64_t seed = 0;
     double duration_s = 0.0;
-    bool quiet = false, no_plots = false, view_wait = false;
+    bool quiet = false, no_plots = false, view_wait = false, live = false;
+    std::string lcm_url = "udpm://239.255.76.67:7667?ttl=0", node_exe;
     std::uint16_t view_port = 0;
     double view_speed = 1.0;
   };
@@ -59,6 +60,12 @@ void add_run_command(CLI::App& app) {
   c->add_option("--view-speed", o->view_speed, "with --view: the run at this many times real time (0: full speed)")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
   c->add_flag("--view-wait", o->view_wait, "with --view: start the run once a viewer has subscribed");
+  c->add_flag("--live", o->live,
+              "after the lockstep run, run it again in real time against estimator_node processes (one per robot, "
+              "the run's node options) fed over LCM (--lcm), their estimates collected from LCM and scored beside the "
+              "lockstep figures; OUT/live/ holds the nodes' summaries, their estimates and live.json");
+  c->add_option("--lcm", o->lcm_url, "with --live: the LCM URL of the streams and the estimates")->capture_default_str();
+  c->add_option("--node-exe", o->node_exe, "with --live: the estimator_node to run (default: beside sim_host)");
   c->callback([o, seed, duration]() {
     std::vector<ScenarioOverride> overrides;
     for (const std::string& kv : o->sets) overrides.push_back(parse_override(kv));
@@ -77,6 +84,11 @@ void add_run_command(CLI::App& app) {
     ro.view_port = o->view_port;
     ro.view_speed = o->view_speed;
     ro.view_wait = o->view_wait;
+    if (o->live) {
+      if (o->view_port != 0) throw CLI::ValidationError("--live", "a live run has no --view (the nodes take --view)");
+      ro.live_lcm_url = o->lcm_url;
+      ro.live.node_exe = o->node_exe;
+    }
     run_scenario(f, ro);
   });
 }

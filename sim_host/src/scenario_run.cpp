@@ -123,6 +123,14 @@ void run_scenario(const ScenarioFile& f, const RunOptions& o) {
       print_summary(r, f.scenario, world, o.out);
       std::cout << "  log: " << log << " (inputs, ground truth, estimates on EST_POSE; replay: " << log
                 << ".json's estimator_node_options)\n";
+      if (!o.live_lcm_url.empty()) {
+        std::cout.flush();
+        LiveOptions live = o.live;
+        live.lcm_url = o.live_lcm_url;
+        const LiveResult lr = run_live_robot(r, f.scenario, f.filter, o.out, live);
+        if (lr.node_exit != 0) throw std::runtime_error("--live: estimator_node exited with status " +
+                                                        std::to_string(lr.node_exit));
+      }
       return;
     }
     case ScenarioRunner::team: {
@@ -134,11 +142,22 @@ void run_scenario(const ScenarioFile& f, const RunOptions& o) {
       t.duration_s = f.team_duration_s;
       t.plots = o.plots;
       t.quiet = o.quiet;
+      if (!o.live_lcm_url.empty() && f.team == "diffdrive-landmarks")
+        throw std::invalid_argument("--live: no node runs the anonymous team of diffdrive-landmarks");
       team::run_team_scenario(t);
+      if (!o.live_lcm_url.empty()) {
+        std::cout.flush();
+        LiveOptions live = o.live;
+        live.lcm_url = o.live_lcm_url;
+        const LiveResult lr = run_live_team(o.out, live);
+        if (lr.node_exit != 0) throw std::runtime_error("--live: a team node exited with status " +
+                                                        std::to_string(lr.node_exit));
+      }
       return;
     }
     case ScenarioRunner::exercise: {
       if (o.view_port != 0) throw std::invalid_argument("--view: an exercise draws samples, it has no live view");
+      if (!o.live_lcm_url.empty()) throw std::invalid_argument("--live: an exercise draws samples, no node runs it");
       const std::vector<MotionCloud> clouds = bicycle_exercise(f.exercise_seed, f.exercise_samples);
       for (const MotionCloud& c : clouds) {
         write_cloud(c, o.out);

@@ -92,16 +92,7 @@ void run_stream(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorl
     std::size_t* next_snap = nullptr;
     view::LiveView* view = nullptr;
     void publish(const hal::Estimate& e) override {
-      OutputRow row;
-      row.t_ns = e.stamp_ns;
-      row.truth = r->stream.truth_at(e.stamp_ns).pose;
-      row.estimate = e.pose;
-      row.position_error_m = std::hypot(e.pose.x - row.truth.x, e.pose.y - row.truth.y);
-      row.heading_error_rad = std::fabs(wrap(e.pose.theta - row.truth.theta));
-      row.sigma_x_m = std::sqrt(std::max(0.0f, e.covariance(0, 0)));
-      row.sigma_y_m = std::sqrt(std::max(0.0f, e.covariance(1, 1)));
-      row.sigma_theta_rad = std::sqrt(std::max(0.0f, e.covariance(2, 2)));
-      row.cov_xy_m2 = e.covariance(0, 1);
+      OutputRow row = output_row(r->stream, e);
       if (mcl) {
         row.particles = pipeline->particles().count;
         if (const est::MclCounters* c = pipeline->mcl_counters()) {
@@ -109,8 +100,6 @@ void run_stream(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorl
           row.injected_particles = c->injected_particles;
         }
       }
-      row.status = e.status & ~hal::status::kDeadlineOverrun;
-      row.rejected_inputs = e.rejected_inputs;
       r->rows.push_back(row);
       r->estimates.push_back(e);
       if (view != nullptr) {
@@ -191,9 +180,26 @@ std::size_t localized_at(const std::vector<OutputRow>& rows, hal::TimeNs from, h
   return candidate;  // within the bounds up to the end of the phase (shorter than hold): accepted
 }
 
-SimMetrics compute_metrics(const SimResult& r, const FilterOptions& fo) {
+}  // namespace
+
+OutputRow output_row(const SensorStream& s, const hal::Estimate& e) {
+  OutputRow row;
+  row.t_ns = e.stamp_ns;
+  row.truth = s.truth_at(e.stamp_ns).pose;
+  row.estimate = e.pose;
+  row.position_error_m = std::hypot(e.pose.x - row.truth.x, e.pose.y - row.truth.y);
+  row.heading_error_rad = std::fabs(wrap(e.pose.theta - row.truth.theta));
+  row.sigma_x_m = std::sqrt(std::max(0.0f, e.covariance(0, 0)));
+  row.sigma_y_m = std::sqrt(std::max(0.0f, e.covariance(1, 1)));
+  row.sigma_theta_rad = std::sqrt(std::max(0.0f, e.covariance(2, 2)));
+  row.cov_xy_m2 = e.covariance(0, 1);
+  row.status = e.status & ~hal::status::kDeadlineOverrun;
+  row.rejected_inputs = e.rejected_inputs;
+  return row;
+}
+
+SimMetrics compute_metrics(const SensorStream& s, const std::vector<OutputRow>& rows, const FilterOptions& fo) {
   SimMetrics m;
-  const SensorStream& s = r.stream;
   const hal::TimeNs t0 = s.truth.front().t_ns;
   std::vector<std::pair<hal::TimeNs, std::string>> starts = {
       {t0, fo.start == StartKind::global ? "global localization" : "tracking"}};
@@ -217,7 +223,7 @@ SimMetrics compute_metrics(const SimResult& r, const FilterOptions& fo) {
     // than the bounds (the recovery is timed from there).
     hal::TimeNs lost = !kidnap && fo.start == StartKind::global ? from : -1;
     if (kidnap) {
-      for (const OutputRow& row : r.rows) {
+      for (const OutputRow& row : rows) {
         if (row.t_ns < from || row.t_ns >= to) continue;
         if (row.position_error_m >= pos || row.heading_error_rad >= head) {
           lost = row.t_ns;
@@ -227,22 +233,22 @@ SimMetrics compute_metrics(const SimResult& r, const FilterOptions& fo) {
     }
     ph.lost_at_s = lost >= 0 ? span_s(lost - t0) : -1.0;
     const hal::TimeNs search = kidnap ? lost : from;  // a kidnapping never lost is never recovered
-    const std::size_t first = search >= 0 ? localized_at(r.rows, search, to, fo) : r.rows.size();
-    ph.localized = first < r.rows.size();
+    const std::size_t first = search >= 0 ? localized_at(rows, search, to, fo) : rows.size();
+    ph.localized = first < rows.size();
     if (ph.localized) {
-      const hal::TimeNs at = r.rows[first].t_ns;
+      const hal::TimeNs at = rows[first].t_ns;
       ph.localized_at_s = span_s(at - t0);
       ph.time_to_localize_s = span_s(at - search);
       m.localized_time_s += span_s(std::min(to, s.end_ns) - at);
       hal::TimeNs prev = -1;
       // The filter's counters before the localized part: those of the output before it.
-      const std::uint32_t drawn0 = first > 0 ? r.rows[first - 1].drawn_particles : 0u;
-      const std::uint32_t injected0 = first > 0 ? r.rows[first - 1].injected_particles : 0u;
+      const std::uint32_t drawn0 = first > 0 ? rows[first - 1].drawn_particles : 0u;
+      const std::uint32_t injected0 = first > 0 ? rows[first - 1].injected_particles : 0u;
       std::uint32_t drawn1 = drawn0, injected1 = injected0;
       double particles_sum = 0.0;
       std::size_t rows_in = 0;
-      for (std::size_t k = first; k < r.rows.size(); ++k) {
-        const OutputRow& row = r.rows[k];
+      for (std::size_t k = first; k < rows.size(); ++k) {
+        const OutputRow& row = rows[k];
         if (row.t_ns >= to) break;
         const double ep = row.position_error_m, eh = row.heading_error_rad;
         sp += ep * ep;
@@ -258,7 +264,7 @@ SimMetrics compute_metrics(const SimResult& r, const FilterOptions& fo) {
         ph.particles_max = std::max(ph.particles_max, row.particles);
         ++rows_in;
       }
-      if (r.filter == est::loop::Filter::mcl && rows_in > 0) {
+      if (fo.filter == est::loop::Filter::mcl && rows_in > 0) {
         ph.drawn_particles = drawn1 - drawn0;  // unsigned: right across a wrap of the counters
         ph.injected_particles = injected1 - injected0;
         ph.injected_share = ph.drawn_particles > 0 ? static_cast<double>(ph.injected_particles) /
@@ -269,7 +275,7 @@ SimMetrics compute_metrics(const SimResult& r, const FilterOptions& fo) {
     }
     m.phases.push_back(ph);
   }
-  for (const OutputRow& row : r.rows) {
+  for (const OutputRow& row : rows) {
     sp_all += static_cast<double>(row.position_error_m) * static_cast<double>(row.position_error_m);
     ++n_all;
   }
@@ -284,8 +290,6 @@ SimMetrics compute_metrics(const SimResult& r, const FilterOptions& fo) {
   m.outside_bounds_s = span_s(outside);
   return m;
 }
-
-}  // namespace
 
 // The estimator of a run, as estimator_node would be configured for this robot (sim_host record writes the same
 // options for a replay).
@@ -370,7 +374,7 @@ SimResult run_simulation(const ScenarioConfig& scenario, const FilterOptions& fi
   if (r.stream.truth.empty()) throw std::invalid_argument("the run has no steps");
   expect_loop_inputs(r.stream, !ekf, ekf);
   run_stream(scenario, filter, world, r, progress, watch);
-  r.metrics = compute_metrics(r, filter);
+  r.metrics = compute_metrics(r.stream, r.rows, filter);
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return r;
 }

@@ -262,7 +262,11 @@ void add_simulate_command(CLI::App& app) {
       if (ekf && kidnap_opt->count() == 0) f.scenario.kidnap_at_s = -1.0;  // an EKF cannot recover: none unless asked
       fo.kld = !*no_kld;
     }
-    run_scenario(f, RunOptions{*out, !*no_plots, *quiet});
+    RunOptions ro;
+    ro.out = *out;
+    ro.plots = !*no_plots;
+    ro.quiet = *quiet;
+    run_scenario(f, ro);
   });
 }
 

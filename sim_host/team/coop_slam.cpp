@@ -224,6 +224,22 @@ void plot(const fs::path& dir, const CoopWorld& w, const node::TeamEstimator& sh
   run_gnuplot(dir / "errors.gp", dir / "errors.png");
 }
 
+// Robot a's estimate of itself on node a (a point robot: no heading), with its position covariance.
+TeamLogStep log_step(hal::TimeNs stamp_ns, const CoopWorld& w, const std::vector<std::unique_ptr<TeamNode>>& nodes) {
+  TeamLogStep s;
+  s.stamp_ns = stamp_ns;
+  for (int a = 0; a < w.robots(); ++a) {
+    s.truth.push_back({w.robot(a)(0), w.robot(a)(1), 0.0f});
+    const auto& slam = nodes[static_cast<std::size_t>(a)]->est.slam();
+    hal::Estimate e;
+    e.stamp_ns = stamp_ns;
+    e.pose = {slam.robot(a)(0), slam.robot(a)(1), 0.0f};
+    e.covariance.topLeftCorner<2, 2>() = slam.covariance().block<2, 2>(2 * a, 2 * a);
+    s.estimate.push_back(e);
+  }
+  return s;
+}
+
 }  // namespace
 
 void run_coop_slam(const TeamRunOptions& o, bool team_of_four) {
@@ -244,6 +260,7 @@ void run_coop_slam(const TeamRunOptions& o, bool team_of_four) {
   shared[0]->keep_lines = true;
   std::vector<std::vector<TeamMessage>> by_robot(static_cast<std::size_t>(R));
   std::vector<std::vector<Eigen::Vector2f>> truth, est_shared, est_own;
+  std::vector<TeamLogStep> logged;  // the run log's truth and each robot's node's estimate of itself
   Errors es, eo;
   Progress progress(o.scenario, steps * static_cast<double>(w.step_s()), o.quiet, Progress::Unit::simulated_s, 2.0);
   for (std::uint32_t k = 1; k <= static_cast<std::uint32_t>(steps); ++k) {
@@ -274,6 +291,7 @@ void run_coop_slam(const TeamRunOptions& o, bool team_of_four) {
       m.push_back(own[static_cast<std::size_t>(a)]->est.slam().robot(a));
     }
     truth.push_back(t), est_shared.push_back(s), est_own.push_back(m);
+    logged.push_back(log_step(msgs.front().stamp_ns, w, shared));
     account(es, shared[0]->est, w, -1);
     // The own-only figures: robot a's position from robot a's node.
     std::vector<double> row;
@@ -342,7 +360,7 @@ void run_coop_slam(const TeamRunOptions& o, bool team_of_four) {
     for (const std::string& l : shared[0]->lines) f << l << "\n";
   }
   write_csv(dir / "trajectory.csv", w, truth, est_shared, est_own, es, eo);
-  write_team_logs(dir, w, by_robot, spec);
+  write_team_logs(dir, o.scenario, by_robot, logged, &spec);
   if (o.plots) {
     const Band b = chi2_band(shared[0]->est.slam().dim());
     const double n = shared[0]->est.slam().dim();
@@ -363,7 +381,7 @@ void run_coop_slam(const TeamRunOptions& o, bool team_of_four) {
               j["shared"]["nees_mean_per_dof"].get<double>(),
               100.0 * j["shared"]["nees_in_95_band_share"].get<double>(),
               identical ? "yes" : "NO");
-  std::printf("  -> %s (metrics.json, trajectory.csv, team_estimates.csv, logs/%s)\n", o.out.c_str(),
+  std::printf("  -> %s (metrics.json, trajectory.csv, team_estimates.csv, run.lcmlog, logs/%s)\n", o.out.c_str(),
               o.plots ? ", trajectory.png, errors.png" : "");
 }
 

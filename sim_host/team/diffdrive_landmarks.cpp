@@ -19,6 +19,7 @@
 #include "est/team/anonymous_team_mcl.hpp"
 #include "sim/plot.hpp"
 #include "sim/progress.hpp"
+#include "team/team_logs.hpp"
 #include "team/team_scenarios.hpp"
 
 namespace sim::team {
@@ -339,6 +340,21 @@ void run_diffdrive_landmarks(const TeamRunOptions& o) {
     f << m.dump(2) << "\n";
     if (!f) throw std::runtime_error("error writing metrics.json");
   }
+  // The run's log: each robot's truth and estimate (no inputs: no node runs the anonymous team).
+  std::vector<TeamLogStep> logged;
+  for (const Row& w : rows) {
+    TeamLogStep s;
+    s.stamp_ns = static_cast<hal::TimeNs>(std::llround(w.t * 1e9));
+    for (int r = 0; r < kRobots; ++r) {
+      s.truth.push_back(w.truth[r]);
+      hal::Estimate e;
+      e.stamp_ns = s.stamp_ns;
+      e.pose = w.est[r];
+      s.estimate.push_back(e);
+    }
+    logged.push_back(s);
+  }
+  write_team_logs(out, "diffdrive-landmarks", {}, logged, nullptr);
   if (o.plots) {
     plot_belief(out);
     plot_trajectory(out, rows);
@@ -355,7 +371,8 @@ void run_diffdrive_landmarks(const TeamRunOptions& o) {
               "steps of %u, %u corrections\n",
               d(rows.empty() ? 0.0f : rows.back().p_true), first_095, c.sightings, c.ambiguous_steps,
               c.sighting_steps, c.corrections_applied);
-  std::printf("  wrote %s\n", out.string().c_str());
+  std::printf("  wrote %s (metrics.json, trajectory.csv, run.lcmlog: each robot's truth and estimate)\n",
+              out.string().c_str());
 }
 
 }  // namespace sim::team

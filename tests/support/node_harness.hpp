@@ -118,6 +118,23 @@ inline long first_difference(const std::vector<est_lcm::pose_estimate_t>& a,
   return a.size() == b.size() ? -1 : static_cast<long>(n);
 }
 
+// Whether LCM udpm on `url` delivers here: an instance hears its own messages through multicast loopback.
+inline bool udpm_works(const std::string& url) {
+  ::lcm::LCM lcm(url);
+  if (!lcm.good()) return false;
+  struct Heard {
+    bool any = false;
+    void on(const ::lcm::ReceiveBuffer*, const std::string&) { any = true; }
+  } heard;
+  lcm.subscribe("EST_UDPM_PROBE", &Heard::on, &heard);
+  const char probe[] = "probe";
+  for (int i = 0; i < 20 && !heard.any; ++i) {
+    lcm.publish("EST_UDPM_PROBE", probe, sizeof probe);
+    lcm.handleTimeout(100);
+  }
+  return heard.any;
+}
+
 inline double wrap_angle(double a) { return std::remainder(a, 2.0 * 3.14159265358979323846); }
 
 }  // namespace est::test

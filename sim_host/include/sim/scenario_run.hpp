@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "sim/live_run.hpp"
 #include "sim/scenario_file.hpp"
 
 namespace sim {
@@ -18,6 +19,9 @@ struct RunOptions {
   std::uint16_t view_port = 0;
   double view_speed = 1.0;
   bool view_wait = false;
+  // After the lockstep run, the run again live against estimator_node processes (sim/live_run.hpp); empty: none.
+  std::string live_lcm_url{};
+  LiveOptions live{};
 };
 
 void run_scenario(const ScenarioFile& scenario, const RunOptions& options);

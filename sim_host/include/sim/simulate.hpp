@@ -148,6 +148,12 @@ struct SimResult {
 node::EstimatorSpec estimator_spec(const ScenarioConfig& scenario, const FilterOptions& filter,
                                    const SensorStream& stream);
 
+// An estimate with the truth at its time.
+OutputRow output_row(const SensorStream& stream, const hal::Estimate& estimate);
+// The metrics of a run's estimates against its stream's truth (the phases from the start kind and the kidnapping).
+// Rows without MCL's particle counts (a live node's estimates) give the particle figures as zeros.
+SimMetrics compute_metrics(const SensorStream& stream, const std::vector<OutputRow>& rows, const FilterOptions& filter);
+
 // A run watched in the live view (view/live_view.hpp; the caller gives it the world's map): every estimate with the
 // truth at its time, and MCL's particles at the view's rate; the stream paced at `speed` times real time (0: as fast
 // as it goes). The outputs are the same bits as an unwatched run's.

@@ -1,0 +1,464 @@
+// `sim_host run --live` (sim/live_run.hpp): the run's streams in real time to estimator_node processes over LCM.
+#include "sim/live_run.hpp"
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <lcm/lcm-cpp.hpp>
+#include <map>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include <est_lcm/ground_truth_t.hpp>
+#include <est_lcm/pose_estimate_t.hpp>
+
+#include "hal/lcm/lcm_convert.hpp"
+#include "node/lcm_log_io.hpp"
+#include "node/pacer.hpp"
+
+namespace sim {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string node_exe(const LiveOptions& o) {
+  if (!o.node_exe.empty()) return o.node_exe;
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  const fs::path beside = self.parent_path() / "estimator_node";
+  if (ec || !fs::exists(beside)) throw std::runtime_error("--live: no estimator_node beside sim_host (" + beside.string() + ")");
+  return beside.string();
+}
+
+// One estimator_node process, its stdout and stderr in `log`.
+class NodeProcess {
+ public:
+  NodeProcess(const std::string& cmd, fs::path log) : log_(std::move(log)) {
+    pid_ = fork();
+    if (pid_ == 0) {
+      execl("/bin/sh", "sh", "-c", ("exec " + cmd + " >'" + log_.string() + "' 2>&1").c_str(),
+            static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    if (pid_ < 0) throw std::runtime_error("--live: cannot start estimator_node");
+  }
+  ~NodeProcess() {
+    if (pid_ > 0) stop();
+  }
+  NodeProcess(const NodeProcess&) = delete;
+  NodeProcess& operator=(const NodeProcess&) = delete;
+
+  // Whether the node said `text` within `seconds` (false at once when it exited).
+  bool wait_for(const std::string& text, double seconds) {
+    const auto end = Clock::now() + std::chrono::duration<double>(seconds);
+    while (Clock::now() < end) {
+      if (read_text(log_).find(text) != std::string::npos) return true;
+      int status = 0;
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        exit_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        pid_ = -1;
+        return false;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return false;
+  }
+
+  // SIGINT (the node's summary and a clean exit), SIGKILL after 10 s; the exit status (-1: killed by a signal).
+  int stop() {
+    if (pid_ <= 0) return exit_;
+    kill(pid_, SIGINT);
+    int status = 0;
+    const auto end = Clock::now() + std::chrono::seconds(10);
+    while (waitpid(pid_, &status, WNOHANG) == 0) {
+      if (Clock::now() > end) {
+        kill(pid_, SIGKILL);
+        waitpid(pid_, &status, 0);
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    pid_ = -1;
+    exit_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return exit_;
+  }
+  const fs::path& log() const { return log_; }
+
+ private:
+  fs::path log_;
+  pid_t pid_ = -1;
+  int exit_ = -1;
+};
+
+// The estimates the nodes publish (EST_POSE, EST_POSE_<a>), heard on a thread of their own while the streams play.
+class Collector {
+ public:
+  explicit Collector(const std::string& url) : lcm_(url) {
+    if (!lcm_.good()) throw std::runtime_error("--live: LCM could not start on '" + url + "'");
+    lcm_.subscribe("EST_POSE(_[0-9]+)?", &Collector::on, this);
+    thread_ = std::thread([this] {
+      while (!done_) lcm_.handleTimeout(50);
+    });
+  }
+  ~Collector() { finish(); }
+  void finish() {
+    done_ = true;
+    if (thread_.joinable()) thread_.join();
+  }
+  // By channel, in the order heard (after finish()).
+  const std::map<std::string, std::vector<est_lcm::pose_estimate_t>>& estimates() const { return by_channel_; }
+
+ private:
+  void on(const ::lcm::ReceiveBuffer* b, const std::string& channel) {
+    est_lcm::pose_estimate_t m;
+    const int n = static_cast<int>(b->data_size);
+    if (m.decode(b->data, 0, n) != n) return;
+    by_channel_[channel].push_back(m);
+  }
+  ::lcm::LCM lcm_;
+  std::atomic<bool> done_{false};
+  std::thread thread_;
+  std::map<std::string, std::vector<est_lcm::pose_estimate_t>> by_channel_;
+};
+
+// The log's events on the channels `play` takes, published on `url` at their times (real time), by channel.
+template <typename Play>
+std::map<std::string, std::size_t> play_log(const std::string& log_path, const std::string& url, Play play) {
+  ::lcm::LogFile log(log_path, "r");
+  if (!log.good()) throw std::runtime_error("--live: cannot read " + log_path);
+  ::lcm::LCM lcm(url);
+  if (!lcm.good()) throw std::runtime_error("--live: LCM could not start on '" + url + "'");
+  node::Pacer pacer(1.0);
+  std::map<std::string, std::size_t> published;
+  while (const ::lcm::LogEvent* e = log.readNextEvent()) {
+    if (!play(e->channel)) continue;
+    pacer.at(e->timestamp * 1000);
+    if (lcm.publish(e->channel, e->data, static_cast<unsigned>(e->datalen)) == 0) ++published[e->channel];
+  }
+  return published;
+}
+
+// The published estimates as a log (event times their stamps), for sim_host plot beside the run's log.
+void write_estimates(const fs::path& path, const std::map<std::string, std::vector<est_lcm::pose_estimate_t>>& by) {
+  node::LogWriter w(path.string());
+  for (const auto& [channel, list] : by)
+    for (const est_lcm::pose_estimate_t& m : list) w.write(channel, m.stamp_ns, m);
+}
+
+bool same_bits(const est_lcm::pose_estimate_t& a, const est_lcm::pose_estimate_t& b) {
+  return a.stamp_ns == b.stamp_ns && std::memcmp(&a.x_m, &b.x_m, sizeof(float)) == 0 &&
+         std::memcmp(&a.y_m, &b.y_m, sizeof(float)) == 0 &&
+         std::memcmp(&a.theta_rad, &b.theta_rad, sizeof(float)) == 0 &&
+         std::memcmp(a.covariance, b.covariance, sizeof(a.covariance)) == 0;
+}
+
+// Live estimates paired with the lockstep's of the same stamp (the k-th of a stamp with the k-th: a scan applied
+// right after a prediction gives two outputs at one time).
+struct Pairing {
+  std::size_t matched = 0, identical = 0;
+  double worst_m = 0.0, worst_rad = 0.0;
+};
+Pairing pair_by_stamp(const std::vector<est_lcm::pose_estimate_t>& lockstep,
+                      const std::vector<est_lcm::pose_estimate_t>& live) {
+  std::map<std::int64_t, std::vector<const est_lcm::pose_estimate_t*>> by;
+  for (const est_lcm::pose_estimate_t& e : lockstep) by[e.stamp_ns].push_back(&e);
+  std::map<std::int64_t, std::size_t> used;
+  Pairing p;
+  for (const est_lcm::pose_estimate_t& l : live) {
+    const auto it = by.find(l.stamp_ns);
+    if (it == by.end()) continue;
+    std::size_t& k = used[l.stamp_ns];
+    if (k >= it->second.size()) continue;
+    const est_lcm::pose_estimate_t& r = *it->second[k++];
+    ++p.matched;
+    if (same_bits(l, r)) ++p.identical;
+    p.worst_m = std::max(p.worst_m, std::hypot(static_cast<double>(l.x_m - r.x_m), static_cast<double>(l.y_m - r.y_m)));
+    p.worst_rad = std::max(p.worst_rad, std::fabs(std::remainder(static_cast<double>(l.theta_rad - r.theta_rad),
+                                                                 6.283185307179586)));
+  }
+  return p;
+}
+
+// `key=` on the node summary's line that starts with `line`; -1 when absent.
+long long summary_value(const std::string& summary, const std::string& line, const std::string& key) {
+  std::istringstream in(summary);
+  std::string l;
+  while (std::getline(in, l)) {
+    if (l.compare(0, line.size(), line) != 0) continue;
+    const std::size_t at = l.find(" " + key + "=");
+    if (at == std::string::npos) return -1;
+    return std::atoll(l.c_str() + at + key.size() + 2);
+  }
+  return -1;
+}
+
+std::string fmt(const char* f, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+void row(const std::string& what, const std::string& lockstep, const std::string& live) {
+  std::printf("  %-38s %14s %14s\n", what.c_str(), lockstep.c_str(), live.c_str());
+}
+
+std::string metric(double v, const char* f, const char* unit) { return v < 0.0 ? "-" : fmt(f, v) + unit; }
+
+nlohmann::json metrics_of(const SimMetrics& m, std::size_t estimates) {
+  nlohmann::json j;
+  j["estimates"] = estimates;
+  j["rmse_position_m"] = m.rmse_position_m;
+  j["max_position_error_m"] = m.max_position_error_m;
+  j["rmse_heading_deg"] = m.rmse_heading_deg;
+  j["rmse_position_all_m"] = m.rmse_position_all_m;
+  j["localized_time_s"] = m.localized_time_s;
+  j["phases"] = nlohmann::json::array();
+  for (const PhaseMetrics& p : m.phases)
+    j["phases"].push_back({{"name", p.name}, {"localized", p.localized}, {"time_to_localize_s", p.time_to_localize_s}});
+  return j;
+}
+
+}  // namespace
+
+LiveResult run_live_robot(const SimResult& lockstep, const ScenarioConfig& sc, const FilterOptions& fo,
+                          const std::string& out, const LiveOptions& o) {
+  const fs::path dir = fs::path(out) / "live";
+  fs::create_directories(dir);
+  const std::string log = (fs::path(out) / "run.lcmlog").string();
+  const nlohmann::json sidecar = nlohmann::json::parse(read_text(log + ".json"));
+  std::string options = sidecar.at("estimator_node_options").get<std::string>();
+  const std::string replay = "--replay " + log;
+  if (options.compare(0, replay.size(), replay) != 0) throw std::runtime_error("--live: the sidecar is not this run's");
+  options = options.substr(replay.size());
+
+  std::printf("live: the run again in real time (%.1f s): estimator_node on LCM %s\n", sc.duration_s,
+              o.lcm_url.c_str());
+  std::fflush(stdout);
+  LiveResult result;
+  NodeProcess node(node_exe(o) + " --lcm '" + o.lcm_url + "'" + options, dir / "node.txt");
+  if (!node.wait_for("estimator_node: running", o.start_timeout_s))
+    throw std::runtime_error("--live: estimator_node did not start: " + read_text(dir / "node.txt"));
+  Collector heard(o.lcm_url);
+  const auto t0 = Clock::now();
+  const std::map<std::string, std::size_t> published = play_log(
+      log, o.lcm_url, [](const std::string& ch) { return ch != "EST_POSE" && ch != "EST_GROUND_TRUTH"; });
+  const double played_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  std::this_thread::sleep_for(std::chrono::duration<double>(o.drain_s));
+  result.node_exit = node.stop();
+  heard.finish();
+  const std::string summary = read_text(dir / "node.txt");
+
+  const auto found = heard.estimates().find("EST_POSE");
+  const std::vector<est_lcm::pose_estimate_t> live =
+      found != heard.estimates().end() ? found->second : std::vector<est_lcm::pose_estimate_t>{};
+  write_estimates(dir / "live.lcmlog", heard.estimates());
+  std::vector<OutputRow> rows;
+  for (const est_lcm::pose_estimate_t& m : live) rows.push_back(output_row(lockstep.stream, hal::lcm::to_hal(m)));
+  std::stable_sort(rows.begin(), rows.end(), [](const OutputRow& a, const OutputRow& b) { return a.t_ns < b.t_ns; });
+  const SimMetrics lm = compute_metrics(lockstep.stream, rows, fo);
+  std::vector<est_lcm::pose_estimate_t> ref;
+  for (const hal::Estimate& e : lockstep.estimates) ref.push_back(hal::lcm::to_lcm(e));
+  const Pairing p = pair_by_stamp(ref, live);
+
+  for (const auto& kv : published) result.inputs_published += kv.second;
+  result.estimates = live.size();
+  result.matched = p.matched;
+  result.identical = p.identical;
+  const long long accepted = summary_value(summary, "  rejects.lcm:", "accepted");
+  const long long rejected = summary_value(summary, "  rejects:", "total");
+  result.inputs_all_accounted = accepted == static_cast<long long>(result.inputs_published);
+  int lockstep_rejects = 0;
+  for (const auto& kv : lockstep.observed_counts()) lockstep_rejects += kv.second;
+
+  const SimMetrics& km = lockstep.metrics;
+  std::printf("live against lockstep (%s, %.1f s of inputs played in %.1f s):\n", lockstep.description.c_str(),
+              sc.duration_s, played_s);
+  row("", "lockstep", "live");
+  row("estimates", std::to_string(lockstep.estimates.size()), std::to_string(live.size()));
+  for (std::size_t i = 0; i < km.phases.size() && i < lm.phases.size(); ++i)
+    row(km.phases[i].name + ": localized after", metric(km.phases[i].time_to_localize_s, "%.2f", " s"),
+        metric(lm.phases[i].time_to_localize_s, "%.2f", " s"));
+  row("position RMSE once localized", metric(km.rmse_position_m, "%.3f", " m"), metric(lm.rmse_position_m, "%.3f", " m"));
+  row("max position error once localized", metric(km.max_position_error_m, "%.3f", " m"),
+      metric(lm.max_position_error_m, "%.3f", " m"));
+  row("heading RMSE once localized", metric(km.rmse_heading_deg, "%.2f", " deg"),
+      metric(lm.rmse_heading_deg, "%.2f", " deg"));
+  row("position RMSE over every estimate", metric(km.rmse_position_all_m, "%.3f", " m"),
+      metric(lm.rmse_position_all_m, "%.3f", " m"));
+  row("inputs rejected (counted)", std::to_string(lockstep_rejects), std::to_string(rejected));
+  std::printf("  live estimates paired with the lockstep's by stamp: %zu of %zu, %zu identical to the bit; worst "
+              "difference %.4f m, %.4f rad\n",
+              p.matched, lockstep.estimates.size(), p.identical, p.worst_m, p.worst_rad);
+  std::printf("  inputs: %zu published on LCM, %lld taken by the node's LCM input (%s)\n", result.inputs_published,
+              accepted, result.inputs_all_accounted ? "every one" : "SOME LOST");
+  std::printf("  estimator_node: exit status %d; its summary in %s, its estimates in %s\n", result.node_exit,
+              (dir / "node.txt").string().c_str(), (dir / "live.lcmlog").string().c_str());
+
+  nlohmann::json j;
+  j["lcm_url"] = o.lcm_url;
+  j["played_s"] = played_s;
+  j["lockstep"] = metrics_of(km, lockstep.estimates.size());
+  j["lockstep"]["inputs_rejected"] = lockstep_rejects;
+  j["live"] = metrics_of(lm, live.size());
+  j["live"]["inputs_rejected"] = rejected;
+  j["paired"] = {{"matched", p.matched}, {"identical", p.identical}, {"worst_position_m", p.worst_m},
+                 {"worst_heading_rad", p.worst_rad}};
+  j["inputs"] = {{"published", result.inputs_published}, {"accepted_by_lcm_input", accepted},
+                 {"all_accounted", result.inputs_all_accounted}};
+  j["nodes"] = nlohmann::json::array({{{"exit_status", result.node_exit}, {"summary", (dir / "node.txt").string()}}});
+  std::ofstream(dir / "live.json") << j.dump(2) << "\n";
+  return result;
+}
+
+LiveResult run_live_team(const std::string& out, const LiveOptions& o) {
+  const fs::path dir = fs::path(out) / "live";
+  fs::create_directories(dir);
+  const std::string log = (fs::path(out) / "run.lcmlog").string();
+  const nlohmann::json sidecar = nlohmann::json::parse(read_text(log + ".json"));
+  if (!sidecar.contains("team_node_options"))
+    throw std::invalid_argument("--live: no node runs this team (" + sidecar.value("scenario", std::string()) + ")");
+  const std::string options = sidecar.at("team_node_options").get<std::string>();
+  const int robots = sidecar.at("robots").get<int>();
+
+  // The lockstep run's truth and estimates, from its log.
+  std::map<std::string, std::vector<est_lcm::pose_estimate_t>> lockstep;
+  std::vector<std::map<std::int64_t, est_lcm::ground_truth_t>> truth(static_cast<std::size_t>(robots));
+  {
+    ::lcm::LogFile in(log, "r");
+    while (const ::lcm::LogEvent* e = in.readNextEvent()) {
+      if (e->channel.rfind("EST_POSE_", 0) == 0) {
+        est_lcm::pose_estimate_t m;
+        if (m.decode(e->data, 0, e->datalen) == e->datalen) lockstep[e->channel].push_back(m);
+      } else if (e->channel.rfind("EST_GROUND_TRUTH_", 0) == 0) {
+        est_lcm::ground_truth_t g;
+        const int a = std::atoi(e->channel.c_str() + 17);
+        if (g.decode(e->data, 0, e->datalen) == e->datalen && a >= 0 && a < robots)
+          truth[static_cast<std::size_t>(a)][g.stamp_ns] = g;
+      }
+    }
+  }
+
+  std::printf("live: the team run again in real time: %d team nodes on LCM %s\n", robots, o.lcm_url.c_str());
+  std::fflush(stdout);
+  LiveResult result;
+  const std::string exe = node_exe(o);
+  std::vector<std::unique_ptr<NodeProcess>> nodes;
+  for (int a = 0; a < robots; ++a) {
+    const std::string s = std::to_string(a);
+    nodes.push_back(std::make_unique<NodeProcess>(
+        exe + " " + options + " --robot-id " + s + " --lcm '" + o.lcm_url + "' --team-out '" +
+            (dir / ("team_" + s + ".csv")).string() + "' --team-counts '" + (dir / ("counts_" + s + ".txt")).string() +
+            "'",
+        dir / ("node_" + s + ".txt")));
+  }
+  for (const auto& n : nodes)
+    if (!n->wait_for("running", o.start_timeout_s))
+      throw std::runtime_error("--live: a team node did not start: " + read_text(n->log()));
+  Collector heard(o.lcm_url);
+  const auto t0 = Clock::now();
+  const std::map<std::string, std::size_t> published =
+      play_log(log, o.lcm_url, [](const std::string& ch) { return ch.rfind("EST_TEAM_OWN_", 0) == 0; });
+  const double played_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  std::this_thread::sleep_for(std::chrono::duration<double>(o.drain_s));
+  result.node_exit = 0;
+  for (const auto& n : nodes) {
+    const int rc = n->stop();
+    if (rc != 0) result.node_exit = rc;
+  }
+  heard.finish();
+  write_estimates(dir / "live.lcmlog", heard.estimates());
+
+  const std::string expected_lines = read_text(fs::path(out) / "team_estimates.csv");
+  nlohmann::json j;
+  j["lcm_url"] = o.lcm_url;
+  j["played_s"] = played_s;
+  j["robots"] = nlohmann::json::array();
+  std::printf("live against lockstep (%d steps played in %.1f s), per robot: estimates and position RMSE lockstep / "
+              "live, paired by stamp (identical), the node's team lines against the run's:\n",
+              sidecar.at("steps").get<int>(), played_s);
+  bool all_in = true;
+  for (int a = 0; a < robots; ++a) {
+    const std::string ch = "EST_POSE_" + std::to_string(a);
+    const auto f = heard.estimates().find(ch);
+    const std::vector<est_lcm::pose_estimate_t> live =
+        f != heard.estimates().end() ? f->second : std::vector<est_lcm::pose_estimate_t>{};
+    const auto rmse = [&](const std::vector<est_lcm::pose_estimate_t>& v) {
+      double se = 0.0;
+      std::size_t n = 0;
+      for (const est_lcm::pose_estimate_t& m : v) {
+        const auto t = truth[static_cast<std::size_t>(a)].find(m.stamp_ns);
+        if (t == truth[static_cast<std::size_t>(a)].end()) continue;
+        se += std::pow(std::hypot(static_cast<double>(m.x_m - t->second.x_m), static_cast<double>(m.y_m - t->second.y_m)), 2);
+        ++n;
+      }
+      return n > 0 ? std::sqrt(se / static_cast<double>(n)) : -1.0;
+    };
+    const Pairing p = pair_by_stamp(lockstep[ch], live);
+    // The node's team lines against the run's (node 0's; every node of the team holds the same estimate).
+    const std::string lines = read_text(dir / ("team_" + std::to_string(a) + ".csv"));
+    const bool same_lines = lines == expected_lines;
+    const std::string counts = read_text(dir / ("counts_" + std::to_string(a) + ".txt"));
+    long long own = -1;
+    {
+      std::istringstream in(counts);
+      std::string k;
+      long long v = 0;
+      while (in >> k >> v)
+        if (k == "own_received") own = v;
+    }
+    const std::size_t sent = published.count("EST_TEAM_OWN_" + std::to_string(a))
+                                 ? published.at("EST_TEAM_OWN_" + std::to_string(a))
+                                 : 0;
+    all_in = all_in && own == static_cast<long long>(sent);
+    result.inputs_published += sent;
+    result.estimates += live.size();
+    result.matched += p.matched;
+    result.identical += p.identical;
+    std::printf("  robot %d: %zu / %zu estimates, RMSE %.3f / %.3f m, paired %zu (%zu identical), worst %.4f m; "
+                "team lines %s; own messages %zu sent, %lld received\n",
+                a, lockstep[ch].size(), live.size(), rmse(lockstep[ch]), rmse(live), p.matched, p.identical,
+                p.worst_m, same_lines ? "identical" : "DIFFER", sent, own);
+    j["robots"].push_back({{"robot", a},
+                           {"estimates_lockstep", lockstep[ch].size()},
+                           {"estimates_live", live.size()},
+                           {"rmse_lockstep_m", rmse(lockstep[ch])},
+                           {"rmse_live_m", rmse(live)},
+                           {"paired", p.matched},
+                           {"identical", p.identical},
+                           {"worst_position_m", p.worst_m},
+                           {"team_lines_identical", same_lines},
+                           {"own_sent", sent},
+                           {"own_received", own},
+                           {"exit_status", nodes[static_cast<std::size_t>(a)]->stop()},
+                           {"summary", nodes[static_cast<std::size_t>(a)]->log().string()}});
+  }
+  result.inputs_all_accounted = all_in;
+  std::printf("  every own message reached its node: %s; nodes' exit status %d; summaries in %s/node_<a>.txt\n",
+              all_in ? "yes" : "NO", result.node_exit, dir.string().c_str());
+  std::ofstream(dir / "live.json") << j.dump(2) << "\n";
+  return result;
+}
+
+}  // namespace sim
