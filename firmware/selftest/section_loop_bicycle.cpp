@@ -1,7 +1,7 @@
 #include "est/loop/configured_loop.hpp"
 #include "est/motion/bicycle_model.hpp"
 #include "est/random/samplers.hpp"
-#include "est/util/digest.hpp"
+#include "est/util/trace.hpp"
 #include "loop_digest.hpp"
 #include "loop_world.hpp"
 #include "selftest.hpp"
@@ -21,7 +21,7 @@ constexpr float kMetresPerTick = 0.0005f;
 // encoder at 100 Hz and the steering sensor at 50 Hz (sample and hold), through MCL with the likelihood field on the
 // small map's 10 Hz scans, stamped 3 ms before the encoder sample they arrive with (the loop splits its ticks). The
 // bicycle runs straight for 1 s, then steers 0.35 rad left for 1 s; its true motion is sampled from the same model.
-std::uint64_t section_loop_bicycle() {
+void section_loop_bicycle(Trace& d) {
   const SmallMap world_map = small_map();
   Configured::EstimatorConfig cfg;
   cfg.motion = {0.4f, 1.0471976f, 0.02f, 0.05f, 0.005f, 0.01f};  // l 0.4 m, stops at 60 deg
@@ -32,8 +32,7 @@ std::uint64_t section_loop_bicycle() {
   estimator->initialize_at({1.0f, 1.0f, 0.0f}, 0.1f, 0.05f, kParticles);
   StaticInstance<Configured::Loop> lp(*estimator, Configured::kTiming);
 
-  Digest d;
-  LoopDigestSink sink{&d, 0u};
+  LoopTraceSink sink{&d, 0u};
   LoopStepClock clock;
   Rng world(25u);
   BicycleParams truth_noise = cfg.motion;
@@ -66,8 +65,8 @@ std::uint64_t section_loop_bicycle() {
     lp->run(clock, sink);
   }
   lp->flush(clock, sink);
-  add_loop_end(d, sink.outputs, lp->counters(), truth, estimator->filter().counters().resamplings);
-  return d.value();
+  add_loop_end(d, sink.outputs, lp->counters(), truth,
+               NamedCount{"resamplings", estimator->filter().counters().resamplings});
 }
 
 }  // namespace est::selftest
