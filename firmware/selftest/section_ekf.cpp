@@ -46,10 +46,8 @@ void ekf_slam_run(Trace& d) {
       f.correct_landmark_range(a, 1, (m - x[a]).norm() + sample_normal_sum12(rng, 0.05f), 0.05f);
       f.correct_landmark_range(a, 2, (m2 - x[a]).norm() + sample_normal_sum12(rng, 0.05f), 0.05f);
     }
-    if (k % 20 == 19) {
-      d.add_matrix("mean", f.mean());
-      d.add_matrix("P", f.covariance());
-    }
+    d.add_matrix("mean", f.mean());  // every step's estimate
+    d.add_matrix("P", f.covariance());
   }
   const CorrectionCounters& c = f.counters();
   d.step(200);
@@ -59,7 +57,8 @@ void ekf_slam_run(Trace& d) {
   d.add_u32("landmarks", static_cast<std::uint32_t>(f.landmarks()));
 }
 
-// EKF localization with known correspondences (Thrun table 7.2) through the velocity model, 200 steps.
+// EKF localization with known correspondences (Thrun table 7.2) through the velocity model, 200 steps, every
+// step's estimate traced.
 void ekf_localization_run(Trace& d) {
   d.scope("ekf_localization");
   static const Landmark lm[4] = {{0.0f, 0.0f, 1.0f}, {6.0f, 0.0f, 2.0f}, {6.0f, 6.0f, 3.0f}, {0.0f, 6.0f, 4.0f}};
@@ -88,10 +87,8 @@ void ekf_localization_run(Trace& d) {
                                   lm[j].signature};
       f.correct_range_bearing(z, map, j, noise);
     }
-    if (k % 20 == 19) {
-      d.add_matrix("mean", f.mean_vector());
-      d.add_matrix("P", f.covariance());
-    }
+    d.add_matrix("mean", f.mean_vector());
+    d.add_matrix("P", f.covariance());
   }
   d.step(200);
   d.add_u32("accepted", f.counters().accepted);

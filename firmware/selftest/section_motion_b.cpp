@@ -1,5 +1,6 @@
 #include "est/motion/bicycle_model.hpp"
 #include "est/motion/diff_drive_model.hpp"
+#include "est/motion/holonomic_pose_model.hpp"
 #include "est/motion/omni_model.hpp"
 #include "est/random/xoshiro128.hpp"
 #include "est/util/trace.hpp"
@@ -38,8 +39,9 @@ void run_chain(Trace& d, const char* name, const typename Model::Control* contro
 
 }  // namespace
 
-// Bicycle (front wheel), differential drive (ticks) and omnidirectional models: sampling, exact densities, Jacobians,
-// including the steering stop (clamped command, folded noise) and straight and spin-in-place steps.
+// Bicycle (front wheel), differential drive (ticks), omnidirectional and holonomic (with a heading) models:
+// sampling, exact densities, Jacobians, including the steering stop (clamped command, folded noise) and straight and
+// spin-in-place steps.
 void section_motion_b(Trace& d) {
   BicycleParams bp;
   bp.frame_length = 1.0f;
@@ -68,6 +70,15 @@ void section_motion_b(Trace& d) {
   op.dt = 0.5f;
   const OmniControl oc[] = {{1.0f, 0.5f, 0.8f}, {0.0f, -0.8f, 0.0f}, {0.3f, 0.0f, 2.5f}, {-0.5f, 0.1f, 1e-6f}};
   run_chain<OmniMotionModel>(d, "omni", oc, 4, op, 303u);
+
+  // The holonomic robot carrying a heading it never steers (the loop's holonomic model), with a slow heading drift.
+  HolonomicPoseParams hp;
+  hp.point.B << 0.5f, 0.1f, 0.0f, 0.5f;
+  hp.point.Q << 0.01f, 0.003f, 0.003f, 0.0025f;
+  hp.heading_sigma = 0.01f;
+  const Eigen::Vector2f hc[] = {Eigen::Vector2f(0.3f, 0.0f), Eigen::Vector2f(0.0f, 0.3f), Eigen::Vector2f(-0.2f, 0.1f),
+                                Eigen::Vector2f(0.0f, 0.0f)};
+  run_chain<HolonomicPoseMotionModel>(d, "holonomic_pose", hc, 4, hp, 404u);
 }
 
 }  // namespace est::selftest
