@@ -25,6 +25,7 @@ constexpr Section kSections[] = {
     {"loop_bicycle", digest_of<section_loop_bicycle>, 0x90887a3d1067bd82ull, section_loop_bicycle},
     {"loop_omni", digest_of<section_loop_omni>, 0x3e907e424f4e37b4ull, section_loop_omni},
     {"loop_holonomic", digest_of<section_loop_holonomic>, 0x1c686210d16283bcull, section_loop_holonomic},
+    {"loop_steered", digest_of<section_loop_steered>, 0x96d8dedd21da6e07ull, section_loop_steered},
     {"coop_ekf", section_coop_ekf, 0xbc783a5dca41b094ull},
 };
 

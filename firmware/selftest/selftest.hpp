@@ -55,6 +55,7 @@ void section_loop_ekf(Trace& d);
 void section_loop_velocity(Trace& d);
 void section_loop_odometry(Trace& d);
 void section_loop_bicycle(Trace& d);
+void section_loop_steered(Trace& d);
 void section_loop_omni(Trace& d);
 void section_loop_holonomic(Trace& d);
 std::uint64_t section_coop_ekf();
