@@ -15,6 +15,11 @@ namespace {
 
 const std::string kGoldenDir = EST_GOLDEN_DIR;
 
+#ifndef EST_DETERMINISM_RUNS
+#define EST_DETERMINISM_RUNS 10
+#endif
+constexpr int kRuns = EST_DETERMINISM_RUNS;
+
 // Stated tolerance: 1e-9 relative, below one float ULP (6e-8): any drift of a bit shows, with how far it went.
 constexpr est::test::Tolerance kTolerance{0.0, 1e-9};
 
@@ -28,7 +33,7 @@ TEST_CASE("every traced workload gives the same digest ten times in one process,
   for (int i = 0; i < n; ++i) {
     if (s[i].trace == nullptr) continue;
     ++traced;
-    for (int run = 0; run < 10; ++run) {
+    for (int run = 0; run < kRuns; ++run) {
       const std::uint64_t d = s[i].run();
       INFO(s[i].name << " run " << run << ": 0x" << std::hex << d << " stored 0x" << s[i].expected);
       CHECK(d == s[i].expected);
