@@ -52,12 +52,12 @@ BicycleParams mcl_room_bicycle() {
   return b;
 }
 
-void add_particles(Digest& d, ConstParticleSetView p) {
+void add_particles(Trace& d, ConstParticleSetView p) {
   for (std::uint32_t i = 0; i < p.count; ++i) {
-    d.add(p.x[i]);
-    d.add(p.y[i]);
-    d.add(p.theta[i]);
-    d.add(p.log_w[i]);
+    d.add("particle_x", p.x[i]);
+    d.add("particle_y", p.y[i]);
+    d.add("particle_theta", p.theta[i]);
+    d.add("particle_log_w", p.log_w[i]);
   }
 }
 

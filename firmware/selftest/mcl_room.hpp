@@ -15,7 +15,7 @@
 #include "est/random/xoshiro128.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
 #include "est/sensor/range_scan.hpp"
-#include "est/util/digest.hpp"
+#include "est/util/trace.hpp"
 
 namespace est::selftest {
 
@@ -45,6 +45,6 @@ void mcl_room_scan(const MclRoom& room, const Pose2& truth, Rng& world, float (&
 BicycleParams mcl_room_bicycle();
 
 // Every particle of the set: pose and log weight.
-void add_particles(Digest& d, ConstParticleSetView p);
+void add_particles(Trace& d, ConstParticleSetView p);
 
 }  // namespace est::selftest

@@ -6,7 +6,7 @@
 #include "est/random/samplers.hpp"
 #include "est/random/xoshiro128.hpp"
 #include "est/slam/cooperative_ekf_slam.hpp"
-#include "est/util/digest.hpp"
+#include "est/util/trace.hpp"
 #include "selftest.hpp"
 
 namespace est::selftest {
@@ -14,7 +14,8 @@ namespace {
 
 // The team exercise: 2 point robots, 1 landmark, range-only, 200 steps of shared u and z (sum-of-12 noise, so the
 // workload itself needs no transcendental), plus a range-only landmark initialized from the robots' ranges.
-void ekf_slam_run(Digest& d) {
+void ekf_slam_run(Trace& d) {
+  d.scope("coop_ekf_slam");
   using Slam = CooperativeEkfSlam<HolonomicMotionModel, 2, 2>;
   static Slam f;  // 2 KB of state: kept off the stack on the boards
   HolonomicParams mp;
@@ -29,6 +30,7 @@ void ekf_slam_run(Digest& d) {
   const Eigen::Vector2f m(2.2f, 2.9f), m2(-1.0f, 2.0f);
   Eigen::Vector2f u[2];
   for (int k = 0; k < 200; ++k) {
+    d.step(static_cast<std::uint32_t>(k));
     const float t = 0.05f * static_cast<float>(k);
     u[0] = Eigen::Vector2f(0.09f * (1.0f - t * t / 2.0f + t * t * t * t / 24.0f), 0.03f);
     u[1] = Eigen::Vector2f(-0.04f, 0.08f - 0.0008f * static_cast<float>(k));
@@ -44,20 +46,21 @@ void ekf_slam_run(Digest& d) {
       f.correct_landmark_range(a, 1, (m - x[a]).norm() + sample_normal_sum12(rng, 0.05f), 0.05f);
       f.correct_landmark_range(a, 2, (m2 - x[a]).norm() + sample_normal_sum12(rng, 0.05f), 0.05f);
     }
-    if (k % 20 == 19) {
-      d.add_matrix(f.mean());
-      d.add_matrix(f.covariance());
-    }
+    d.add_matrix("mean", f.mean());  // every step's estimate
+    d.add_matrix("P", f.covariance());
   }
   const CorrectionCounters& c = f.counters();
-  d.add_u32(c.accepted);
-  d.add_u32(c.gated_out);
-  d.add_u32(c.pending);
-  d.add_u32(static_cast<std::uint32_t>(f.landmarks()));
+  d.step(200);
+  d.add_u32("accepted", c.accepted);
+  d.add_u32("gated_out", c.gated_out);
+  d.add_u32("pending", c.pending);
+  d.add_u32("landmarks", static_cast<std::uint32_t>(f.landmarks()));
 }
 
-// EKF localization with known correspondences (Thrun table 7.2) through the velocity model, 200 steps.
-void ekf_localization_run(Digest& d) {
+// EKF localization with known correspondences (Thrun table 7.2) through the velocity model, 200 steps, every
+// step's estimate traced.
+void ekf_localization_run(Trace& d) {
+  d.scope("ekf_localization");
   static const Landmark lm[4] = {{0.0f, 0.0f, 1.0f}, {6.0f, 0.0f, 2.0f}, {6.0f, 6.0f, 3.0f}, {0.0f, 6.0f, 4.0f}};
   const LandmarkMap map(lm, 4);
   VelocityParams mp;
@@ -72,6 +75,7 @@ void ekf_localization_run(Digest& d) {
   Pose2 x{3.1f, 0.9f, 0.05f};
   const LandmarkNoise noise{0.1f, 0.03f, 0.0f};
   for (int k = 0; k < 200; ++k) {
+    d.step(static_cast<std::uint32_t>(k));
     const VelocityControl u{0.6f, 0.3f};
     x = VelocityMotionModel::sample(x, u, mp, rng);
     f.predict(u, mp);
@@ -83,22 +87,19 @@ void ekf_localization_run(Digest& d) {
                                   lm[j].signature};
       f.correct_range_bearing(z, map, j, noise);
     }
-    if (k % 20 == 19) {
-      d.add_matrix(f.mean_vector());
-      d.add_matrix(f.covariance());
-    }
+    d.add_matrix("mean", f.mean_vector());
+    d.add_matrix("P", f.covariance());
   }
-  d.add_u32(f.counters().accepted);
-  d.add_u32(f.counters().gated_out);
+  d.step(200);
+  d.add_u32("accepted", f.counters().accepted);
+  d.add_u32("gated_out", f.counters().gated_out);
 }
 
 }  // namespace
 
-std::uint64_t section_ekf() {
-  Digest d;
+void section_ekf(Trace& d) {
   ekf_slam_run(d);
   ekf_localization_run(d);
-  return d.value();
 }
 
 }  // namespace est::selftest

@@ -2,7 +2,7 @@
 #include "est/loop/configured_loop.hpp"
 #include "est/motion/diff_drive_model.hpp"
 #include "est/random/samplers.hpp"
-#include "est/util/digest.hpp"
+#include "est/util/trace.hpp"
 #include "loop_digest.hpp"
 #include "loop_world.hpp"
 #include "selftest.hpp"
@@ -28,7 +28,7 @@ using Loop = Configured::Loop;
 
 // The filter loop end to end (est/loop): a differential-drive robot's encoder ticks (100 Hz) and 60-beam scans
 // (10 Hz) pushed with a few late arrivals, through MclEstimator with the likelihood field, to published estimates.
-std::uint64_t section_loop() {
+void section_loop(Trace& d) {
   const SmallMap world_map = small_map();
   const FreeSpaceSampler& free_space = world_map.free_space;
   const GridRayCaster& caster = world_map.caster;
@@ -46,8 +46,7 @@ std::uint64_t section_loop() {
   estimator.initialize_at({1.0f, 1.0f, 0.0f}, 0.1f, 0.05f, 256u);
   Loop lp(estimator, Configured::kTiming);
 
-  Digest d;
-  LoopDigestSink sink{&d, 0u};
+  LoopTraceSink sink{&d, 0u};
   LoopStepClock clock;
   Rng world(5u);
   const float m_per_tick = kTwoPi * cfg.motion.wheel_radius / static_cast<float>(cfg.motion.ticks_per_rev);
@@ -73,14 +72,14 @@ std::uint64_t section_loop() {
   }
   lp.flush(clock, sink);
   const loop::LoopCounters& c = lp.counters();
-  d.add_u32(sink.outputs);
-  d.add_u32(c.predictions);
-  d.add_u32(c.corrections);
-  d.add_u32(c.rejected);
-  d.add_u32(c.too_old);
-  d.add(truth.x);
-  d.add(truth.y);
-  return d.value();
+  d.step(sink.outputs);
+  d.add_u32("outputs", sink.outputs);
+  d.add_u32("predictions", c.predictions);
+  d.add_u32("corrections", c.corrections);
+  d.add_u32("rejected", c.rejected);
+  d.add_u32("too_old", c.too_old);
+  d.add("truth_x", truth.x);
+  d.add("truth_y", truth.y);
 }
 
 }  // namespace est::selftest

@@ -2,7 +2,7 @@
 #include "est/map/landmark_map.hpp"
 #include "est/motion/diff_drive_model.hpp"
 #include "est/random/samplers.hpp"
-#include "est/util/digest.hpp"
+#include "est/util/trace.hpp"
 #include "loop_digest.hpp"
 #include "loop_world.hpp"
 #include "selftest.hpp"
@@ -25,7 +25,7 @@ using Configured = loop::ConfiguredLoop<LoopConfig>;
 // The filter loop with the EKF estimator (est/loop/ekf_estimator.hpp): a differential-drive robot's ticks (100 Hz)
 // and landmark sightings (5 Hz, half with known correspondence, half by maximum likelihood, one outlier, one NaN, a
 // few arriving late within the reorder window) to published estimates.
-std::uint64_t section_loop_ekf() {
+void section_loop_ekf(Trace& d) {
   Configured::EstimatorConfig cfg;
   cfg.motion.wheel_radius = 0.05f;
   cfg.motion.track_width = 0.3f;
@@ -39,8 +39,7 @@ std::uint64_t section_loop_ekf() {
   estimator.initialize_at({1.0f, 1.0f, 0.0f}, 0.05f, 0.02f);
   Configured::Loop lp(estimator, Configured::kTiming);
 
-  Digest d;
-  LoopDigestSink sink{&d, 0u};
+  LoopTraceSink sink{&d, 0u};
   LoopStepClock clock;
   Rng world(9u);
   const float m_per_tick = diff_drive_m_per_tick(cfg.motion);
@@ -79,17 +78,17 @@ std::uint64_t section_loop_ekf() {
   lp.flush(clock, sink);
   const loop::LoopCounters& c = lp.counters();
   const CorrectionCounters& r = estimator.filter().counters();
-  d.add_u32(sink.outputs);
-  d.add_u32(c.predictions);
-  d.add_u32(c.corrections);
-  d.add_u32(c.rejected);
-  d.add_u32(c.too_old);
-  d.add_u32(r.accepted);
-  d.add_u32(r.gated_out);
-  d.add_u32(r.nonfinite);
-  d.add(truth.x);
-  d.add(truth.y);
-  return d.value();
+  d.step(sink.outputs);
+  d.add_u32("outputs", sink.outputs);
+  d.add_u32("predictions", c.predictions);
+  d.add_u32("corrections", c.corrections);
+  d.add_u32("rejected", c.rejected);
+  d.add_u32("too_old", c.too_old);
+  d.add_u32("accepted", r.accepted);
+  d.add_u32("gated_out", r.gated_out);
+  d.add_u32("nonfinite", r.nonfinite);
+  d.add("truth_x", truth.x);
+  d.add("truth_y", truth.y);
 }
 
 }  // namespace est::selftest

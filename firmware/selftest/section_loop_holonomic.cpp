@@ -2,7 +2,7 @@
 #include "est/loop/configured_loop.hpp"
 #include "est/motion/holonomic_pose_model.hpp"
 #include "est/random/samplers.hpp"
-#include "est/util/digest.hpp"
+#include "est/util/trace.hpp"
 #include "loop_digest.hpp"
 #include "loop_world.hpp"
 #include "selftest.hpp"
@@ -23,7 +23,7 @@ using Configured =
 // on the small map's 10 Hz scans.
 // The robot never turns: it stands at 0.5 rad and moves along its own x for 1 s, then sideways along its y for 1 s
 // (the world sees both at an angle); the truth is the commanded displacement plus N(0, 2 mm) per 10 ms and axis.
-std::uint64_t section_loop_holonomic() {
+void section_loop_holonomic(Trace& d) {
   const SmallMap world_map = small_map();
   Configured::EstimatorConfig cfg;
   cfg.control.noise_per_s = Eigen::Matrix2f::Identity() * 0.004f;
@@ -39,8 +39,7 @@ std::uint64_t section_loop_holonomic() {
   estimator->initialize_at({1.5f, 1.5f, 0.5f}, 0.1f, 0.05f, kParticles);
   StaticInstance<Configured::Loop> lp(*estimator, Configured::kTiming);
 
-  Digest d;
-  LoopDigestSink sink{&d, 0u};
+  LoopTraceSink sink{&d, 0u};
   LoopStepClock clock;
   Rng world(29u);
   Pose2 truth{1.5f, 1.5f, 0.5f};
@@ -65,8 +64,8 @@ std::uint64_t section_loop_holonomic() {
     lp->run(clock, sink);
   }
   lp->flush(clock, sink);
-  add_loop_end(d, sink.outputs, lp->counters(), truth, estimator->filter().counters().resamplings);
-  return d.value();
+  add_loop_end(d, sink.outputs, lp->counters(), truth,
+               NamedCount{"resamplings", estimator->filter().counters().resamplings});
 }
 
 }  // namespace est::selftest

@@ -1,7 +1,7 @@
 #include "est/loop/configured_loop.hpp"
 #include "est/motion/odometry_model.hpp"
 #include "est/motion/velocity_model.hpp"
-#include "est/util/digest.hpp"
+#include "est/util/trace.hpp"
 #include "loop_digest.hpp"
 #include "loop_world.hpp"
 #include "selftest.hpp"
@@ -20,7 +20,7 @@ using Configured =
 // a base whose odometry overestimates its travel by 3 % and underestimates its turns by 4 % (so its frame drifts
 // from the world), through MCL with the likelihood field on the small map's 10 Hz scans. Each scan is stamped
 // halfway between two increments: the loop splits the next increment at the scan's time.
-std::uint64_t section_loop_odometry() {
+void section_loop_odometry(Trace& d) {
   const SmallMap world_map = small_map();
   Configured::EstimatorConfig cfg;
   cfg.motion = {0.02f, 0.02f, 0.02f, 0.002f, 1.0e-4f};
@@ -30,8 +30,7 @@ std::uint64_t section_loop_odometry() {
   estimator->initialize_at({1.0f, 1.0f, 0.0f}, 0.1f, 0.05f, kParticles);
   StaticInstance<Configured::Loop> lp(*estimator, Configured::kTiming);
 
-  Digest d;
-  LoopDigestSink sink{&d, 0u};
+  LoopTraceSink sink{&d, 0u};
   LoopStepClock clock;
   Rng world(23u);
   VelocityParams arc;
@@ -56,8 +55,8 @@ std::uint64_t section_loop_odometry() {
     lp->run(clock, sink);
   }
   lp->flush(clock, sink);
-  add_loop_end(d, sink.outputs, lp->counters(), truth, estimator->filter().counters().resamplings);
-  return d.value();
+  add_loop_end(d, sink.outputs, lp->counters(), truth,
+               NamedCount{"resamplings", estimator->filter().counters().resamplings});
 }
 
 }  // namespace est::selftest

@@ -1,7 +1,7 @@
 #include "est/loop/configured_loop.hpp"
 #include "est/motion/omni_model.hpp"
 #include "est/motion/omni_wheels.hpp"
-#include "est/util/digest.hpp"
+#include "est/util/trace.hpp"
 #include "loop_digest.hpp"
 #include "loop_world.hpp"
 #include "selftest.hpp"
@@ -26,7 +26,7 @@ std::int32_t round_to_int(float v) {
 // (est/motion/omni_wheels.hpp); the EKF corrects with landmark sightings at 5 Hz. The base drives forward, then
 // sideways (pure v2), then diagonally while turning, 1 s each; its true motion is sampled from the same model and
 // the encoders see the wheels' travel of each true step.
-std::uint64_t section_loop_omni() {
+void section_loop_omni(Trace& d) {
   Configured::EstimatorConfig cfg;
   cfg.motion = {{0.05f, 0.01f, 0.01f, 0.01f, 0.05f, 0.01f, 0.05f, 0.05f, 0.05f}, 0.01f};
   float rows[4][3] = {};
@@ -39,8 +39,7 @@ std::uint64_t section_loop_omni() {
   estimator.initialize_at({1.0f, 1.0f, 0.0f}, 0.05f, 0.02f);
   Configured::Loop lp(estimator, Configured::kTiming);
 
-  Digest d;
-  LoopDigestSink sink{&d, 0u};
+  LoopTraceSink sink{&d, 0u};
   LoopStepClock clock;
   Rng world(27u);
   OmniParams truth_noise = cfg.motion;
@@ -76,8 +75,8 @@ std::uint64_t section_loop_omni() {
   }
   lp.flush(clock, sink);
   const CorrectionCounters& r = estimator.filter().counters();
-  add_loop_end(d, sink.outputs, lp.counters(), truth, r.accepted, r.gated_out);
-  return d.value();
+  add_loop_end(d, sink.outputs, lp.counters(), truth, NamedCount{"accepted", r.accepted},
+               NamedCount{"gated_out", r.gated_out});
 }
 
 }  // namespace est::selftest

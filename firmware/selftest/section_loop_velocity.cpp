@@ -1,6 +1,6 @@
 #include "est/loop/configured_loop.hpp"
 #include "est/motion/velocity_model.hpp"
-#include "est/util/digest.hpp"
+#include "est/util/trace.hpp"
 #include "loop_digest.hpp"
 #include "loop_world.hpp"
 #include "selftest.hpp"
@@ -17,7 +17,7 @@ using Configured =  // scans are not used
 // held and averaged over each 100 Hz prediction, a sideways speed in them that the model ignores; the EKF corrects
 // with landmark sightings at 5 Hz (known correspondence every other sighting, maximum likelihood otherwise). The
 // robot runs straight, turns left, then right, for 3 s, its true motion sampled from the same model.
-std::uint64_t section_loop_velocity() {
+void section_loop_velocity(Trace& d) {
   Configured::EstimatorConfig cfg;
   cfg.motion = {0.02f, 0.002f, 0.02f, 0.02f, 0.0005f, 0.0005f, 0.01f};
   cfg.ekf.additive_process_noise(2, 2) = 4.0e-6f;
@@ -26,8 +26,7 @@ std::uint64_t section_loop_velocity() {
   estimator.initialize_at({1.0f, 1.0f, 0.0f}, 0.05f, 0.02f);
   Configured::Loop lp(estimator, Configured::kTiming);
 
-  Digest d;
-  LoopDigestSink sink{&d, 0u};
+  LoopTraceSink sink{&d, 0u};
   LoopStepClock clock;
   Rng world(21u);
   VelocityParams truth_noise = cfg.motion;
@@ -50,8 +49,8 @@ std::uint64_t section_loop_velocity() {
   }
   lp.flush(clock, sink);
   const CorrectionCounters& r = estimator.filter().counters();
-  add_loop_end(d, sink.outputs, lp.counters(), truth, r.accepted, r.gated_out);
-  return d.value();
+  add_loop_end(d, sink.outputs, lp.counters(), truth, NamedCount{"accepted", r.accepted},
+               NamedCount{"gated_out", r.gated_out});
 }
 
 }  // namespace est::selftest

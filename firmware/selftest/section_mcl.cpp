@@ -6,7 +6,7 @@
 #include "est/sensor/beam_range_finder_model.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
 #include "est/sensor/range_scan.hpp"
-#include "est/util/digest.hpp"
+#include "est/util/trace.hpp"
 #include "mcl_room.hpp"
 #include "selftest.hpp"
 
@@ -29,8 +29,8 @@ void furnish(MclRoomGrid& g) {
 // conditioned prediction (per particle, and batched every third step), likelihood-field (batched) and beam-model
 // corrections on alternate steps, low-variance resampling with uniform injection. Digest of the particles and the
 // estimate after every step.
-std::uint64_t section_mcl() {
-  Digest d;
+void section_mcl(Trace& d) {
+  d.scope("mcl");
   const MclRoom room = mcl_room(furnish);
   BeamRangeFinderModel beam;
   BeamModelParams bp;
@@ -50,6 +50,7 @@ std::uint64_t section_mcl() {
   Pose2 truth{1.5f, 2.5f, 0.3f};
   Rng world(77u);
   for (int t = 0; t < 12; ++t) {
+    d.step(static_cast<std::uint32_t>(t));
     truth = BicycleMotionModel::sample(truth, u, noise, world);
     if (t % 3 == 2)  // the batched prediction (bulk normals, inline trigonometry, vectorized on the host) too
       g_mcl.predict_in_map_batch<BicycleMotionModel>(u, noise, is_free);
@@ -68,20 +69,20 @@ std::uint64_t section_mcl() {
     } else {
       r = g_mcl.correct([&](const Pose2& x) { return beam_range_finder_model(z, x, mount, caster, beam); });
     }
-    d.add(r.log_mean_likelihood);
-    d.add(r.ess);
+    d.add("log_mean_likelihood", r.log_mean_likelihood);
+    d.add("ess", r.ess);
     g_mcl.resample(free_space);
     const PoseEstimate e = g_mcl.cluster_estimate(0.5f).strongest;
-    d.add(e.mean.x);
-    d.add(e.mean.y);
-    d.add(e.mean.theta);
-    d.add_matrix(e.covariance);
+    d.add("x", e.mean.x);
+    d.add("y", e.mean.y);
+    d.add("theta", e.mean.theta);
+    d.add_matrix("P", e.covariance);
   }
+  d.step(12);
   add_particles(d, g_mcl.particles());
-  d.add_u32(g_mcl.counters().injected_particles);
-  d.add_u32(g_mcl.counters().map_penalized);
-  d.add_u32(g_mcl.counters().resamplings);
-  return d.value();
+  d.add_u32("injected_particles", g_mcl.counters().injected_particles);
+  d.add_u32("map_penalized", g_mcl.counters().map_penalized);
+  d.add_u32("resamplings", g_mcl.counters().resamplings);
 }
 
 }  // namespace est::selftest

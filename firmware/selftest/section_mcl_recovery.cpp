@@ -6,7 +6,7 @@
 #include "est/motion/motion_batch.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
 #include "est/sensor/range_scan.hpp"
-#include "est/util/digest.hpp"
+#include "est/util/trace.hpp"
 #include "mcl_room.hpp"
 #include "selftest.hpp"
 
@@ -33,8 +33,8 @@ void furnish(MclRoomGrid& g) {
 // once, a false find holds the injection until it plateaus, the next injection finds the robot and the roughened
 // cloud converges to tracking again. Digest of the statistic, the averages, the injection probability, the
 // estimate and the count after every step, the counters and the final set.
-std::uint64_t section_mcl_recovery() {
-  Digest d;
+void section_mcl_recovery(Trace& d) {
+  d.scope("mcl_recovery");
   const MclRoom room = mcl_room(furnish);
   // The loop's range model: the batched likelihood field on the per-cell grid, with its MeasurementScale.
   const loop::LikelihoodFieldScan range_model(room.field, Pose2{}, &room.field_grid);
@@ -55,6 +55,7 @@ std::uint64_t section_mcl_recovery() {
   g_mcl.initialize_gaussian(truth, 0.1f, 0.05f, 256);
   Rng world(91u);
   for (int t = 0; t < 40; ++t) {
+    d.step(static_cast<std::uint32_t>(t));
     if (t == 10) truth = {4.6f, 3.4f, -2.0f};  // kidnapped: through the partition, 3.8 m away
     truth = BicycleMotionModel::sample(truth, u, noise, world);
     g_mcl.predict_in_map_batch<BicycleMotionModel>(u, noise, is_free);
@@ -63,26 +64,26 @@ std::uint64_t section_mcl_recovery() {
     g_scan.prepare(layout, ranges);
     const ScanBeams z = g_scan.beams();
     const CorrectionReport r = range_model.correct(g_mcl, z, loop::ScanContext{});
-    d.add(r.fit);
-    d.add(r.ess);
-    d.add(g_mcl.log_w_slow());
-    d.add(g_mcl.log_w_fast());
-    d.add(g_mcl.injection_probability());
-    d.add_u32(g_mcl.last_found() ? 1u : 0u);
+    d.add("fit", r.fit);
+    d.add("ess", r.ess);
+    d.add("log_w_slow", g_mcl.log_w_slow());
+    d.add("log_w_fast", g_mcl.log_w_fast());
+    d.add("injection_probability", g_mcl.injection_probability());
+    d.add_u32("found", g_mcl.last_found() ? 1u : 0u);
     const PoseEstimate e = g_mcl.cluster_estimate(0.5f).strongest;
-    d.add(e.mean.x);
-    d.add(e.mean.y);
-    d.add(e.mean.theta);
+    d.add("x", e.mean.x);
+    d.add("y", e.mean.y);
+    d.add("theta", e.mean.theta);
     g_mcl.resample(free_space);
-    d.add_u32(g_mcl.particles().count);
+    d.add_u32("particles", g_mcl.particles().count);
   }
+  d.step(40);
   add_particles(d, g_mcl.particles());
-  d.add_u32(g_mcl.counters().drawn_particles);
-  d.add_u32(g_mcl.counters().injected_particles);
-  d.add_u32(g_mcl.counters().resamplings);
-  d.add(truth.x);
-  d.add(truth.y);
-  return d.value();
+  d.add_u32("drawn_particles", g_mcl.counters().drawn_particles);
+  d.add_u32("injected_particles", g_mcl.counters().injected_particles);
+  d.add_u32("resamplings", g_mcl.counters().resamplings);
+  d.add("truth_x", truth.x);
+  d.add("truth_y", truth.y);
 }
 
 }  // namespace est::selftest

@@ -11,20 +11,21 @@ constexpr Section kSections[] = {
     {"rng", section_rng, 0x29befb971cbc5ca9ull},
     {"gaussian_propagation", section_gaussian_propagation, 0x6885d4b16f70beb5ull},
     {"samplers", section_samplers, 0x4c90acd00e9ea70aull},
-    {"motion_b", section_motion_b, 0x52022a27d17655e3ull},
+    {"motion_b", digest_of<section_motion_b>, 0x36f36c772b29fce4ull, section_motion_b},
     {"sensors", section_sensors, 0x10b2b53ad7117cf3ull},
     {"beam_table", section_beam_table, 0xcb7de31e0c02c7a1ull},
-    {"motion_a", section_motion_a, 0x651a71140c8e686eull},
-    {"ekf", section_ekf, 0x9f2512c664b22560ull},
-    {"mcl", section_mcl, 0xc8822e67cea5105bull},
-    {"mcl_recovery", section_mcl_recovery, 0x27aec648e127a0c2ull},
-    {"loop", section_loop, 0x275c96dbff3ca68bull},
-    {"loop_ekf", section_loop_ekf, 0xf88f46bfa9fe531cull},
-    {"loop_velocity", section_loop_velocity, 0x68a50cd02699c7e3ull},
-    {"loop_odometry", section_loop_odometry, 0xc32ed37f35adf604ull},
-    {"loop_bicycle", section_loop_bicycle, 0x90887a3d1067bd82ull},
-    {"loop_omni", section_loop_omni, 0x3e907e424f4e37b4ull},
-    {"loop_holonomic", section_loop_holonomic, 0x1c686210d16283bcull},
+    {"motion_a", digest_of<section_motion_a>, 0x651a71140c8e686eull, section_motion_a},
+    {"ekf", digest_of<section_ekf>, 0xb98963085dc4cd65ull, section_ekf},
+    {"mcl", digest_of<section_mcl>, 0xc8822e67cea5105bull, section_mcl},
+    {"mcl_recovery", digest_of<section_mcl_recovery>, 0x27aec648e127a0c2ull, section_mcl_recovery},
+    {"loop", digest_of<section_loop>, 0x275c96dbff3ca68bull, section_loop},
+    {"loop_ekf", digest_of<section_loop_ekf>, 0xf88f46bfa9fe531cull, section_loop_ekf},
+    {"loop_velocity", digest_of<section_loop_velocity>, 0x68a50cd02699c7e3ull, section_loop_velocity},
+    {"loop_odometry", digest_of<section_loop_odometry>, 0xc32ed37f35adf604ull, section_loop_odometry},
+    {"loop_bicycle", digest_of<section_loop_bicycle>, 0x90887a3d1067bd82ull, section_loop_bicycle},
+    {"loop_omni", digest_of<section_loop_omni>, 0x3e907e424f4e37b4ull, section_loop_omni},
+    {"loop_holonomic", digest_of<section_loop_holonomic>, 0x1c686210d16283bcull, section_loop_holonomic},
+    {"loop_steered", digest_of<section_loop_steered>, 0x96d8dedd21da6e07ull, section_loop_steered},
     {"coop_ekf", section_coop_ekf, 0xbc783a5dca41b094ull},
 };
 
@@ -38,6 +39,11 @@ int run_all(Result (&out)[kMaxSections]) {
     ++n;
   }
   return n;
+}
+
+const Section* sections(int& n) {
+  n = static_cast<int>(sizeof kSections / sizeof kSections[0]);
+  return kSections;
 }
 
 std::uint64_t combined(const Result* results, int count) {
