@@ -1,6 +1,8 @@
 // LCM log files read with their faults said (hal/lcm/lcm_log_reader.hpp).
 #include "hal/lcm/lcm_log_reader.hpp"
 
+#include <algorithm>
+
 namespace hal::lcm {
 
 namespace {
@@ -140,8 +142,16 @@ bool LcmLogReader::next(LcmLogEvent& out) {
     out.channel.resize(static_cast<std::size_t>(channel_bytes));
     std::size_t got_channel = 0, got_data = 0;
     const bool whole_channel = read(out.channel.data(), out.channel.size(), got_channel);
-    out.data.resize(static_cast<std::size_t>(data_bytes));
-    const bool whole = whole_channel && read(out.data.data(), out.data.size(), got_data);
+    // Grown as the bytes arrive: a header claiming 64 MB in a short file allocates what the file holds.
+    out.data.clear();
+    bool whole = whole_channel;
+    while (whole && got_data < static_cast<std::size_t>(data_bytes)) {
+      const std::size_t chunk = std::min<std::size_t>(64 * 1024, static_cast<std::size_t>(data_bytes) - got_data);
+      out.data.resize(got_data + chunk);
+      std::size_t got_chunk = 0;
+      whole = read(out.data.data() + got_data, chunk, got_chunk);
+      got_data += got_chunk;
+    }
     if (!whole) {
       p.kind = in_->bad() ? LogProblemKind::read_error : LogProblemKind::truncated;
       p.offset = offset_;
