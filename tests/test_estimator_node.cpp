@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <string>
@@ -229,6 +230,36 @@ TEST_CASE("replaying the same log twice gives byte-identical output logs that tr
   CHECK(summary_value(summary, "  inputs:", "scan") == static_cast<long long>(s.scan_messages));
   CHECK(summary_value(summary, "  loop:", "corrections") == static_cast<long long>(s.scan_messages));
   CHECK(summary.find("estimator_node summary (replay)") != std::string::npos);
+}
+
+TEST_CASE("a replay refuses a file that is not an LCM log, and replays a cut log up to the cut, counting it",
+          "[node]") {
+  stream();
+  const std::string junk = tmp("junk.lcmlog");
+  {
+    std::ofstream o(junk, std::ios::binary);
+    std::uint32_t x = 7;
+    for (int i = 0; i < 5000; ++i) {
+      x = x * 1664525u + 1013904223u;
+      o.put(static_cast<char>(x >> 24));
+    }
+  }
+  auto bad = std::make_unique<node::Node>(node_config(replay_args(junk, tmp("junk_out.lcmlog"))));
+  CHECK(bad->run() != 0);
+  CHECK(bad->log_events() == 0);
+  CHECK(bad->log_problems() == 1);
+  bad.reset();
+
+  std::ifstream in(tmp("stream.lcmlog"), std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  REQUIRE(bytes.size() > 1000u);
+  std::ofstream(tmp("cut.lcmlog"), std::ios::binary) << bytes.substr(0, bytes.size() / 2 + 7);
+  auto cut = std::make_unique<node::Node>(node_config(replay_args(tmp("cut.lcmlog"), tmp("cut_out.lcmlog"))));
+  REQUIRE(cut->run() == 0);
+  CHECK(cut->log_problems() == 1);
+  CHECK(cut->log_events() > 100u);
+  CHECK(cut->estimates() > 0u);
+  CHECK(summary_of(*cut).find("problems=1") != std::string::npos);
 }
 
 TEST_CASE("with the EKF (--filter ekf) a replay of landmark sightings is deterministic and tracks the truth", "[node]") {

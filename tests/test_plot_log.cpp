@@ -79,6 +79,6 @@ TEST_CASE("a file that is not an LCM log is refused with its name", "[plot_log]"
     sim::data::read_log_series({bad.string()});
     FAIL("read as a log");
   } catch (const std::runtime_error& e) {
-    CHECK(std::string(e.what()).find("not-a-log.lcmlog: no LCM event") != std::string::npos);
+    CHECK(std::string(e.what()).find("not-a-log.lcmlog: not an LCM log") != std::string::npos);
   }
 }

@@ -110,6 +110,11 @@ TEST_CASE("malformed map files are rejected with their reason", "[map_loader]") 
       {kYaml, "P2\n3 2\n100\n0 1 2 3 4 101\n", "pixel value above maxval"},
       {kYaml, "P2\n3 2\n255\n0 1 2 3\n", "truncated or non-numeric P2 raster"},
       {kYaml, "P5\n1300 2\n255\n" + std::string(2600, '\xfe'), "exceeds the grid capacity 1200 x 1200"},
+      // Found by tests/fuzz/fuzz_ros_map: a short file claiming the largest image was allocated (512 MB) before its
+      // raster was checked.
+      {kYaml, "P5 16384 16384 65535\n\x01", "truncated PGM raster: 536870912 bytes expected, 1 present"},
+      {kYaml, "P2 16384 16384 255\n0 0", "truncated or non-numeric P2 raster: 268435456 pixels expected"},
+      {"image: map.pgm\nresolution: abc\n", kP5, "map.yaml:2: 'resolution' is not a number"},
   };
   for (const auto& c : cases) {
     const std::string why = reason_of(c.yaml, c.pgm);

@@ -39,6 +39,10 @@ bool field(const char*& p, float& out) {
 void load_landmark_csv(const std::string& path, est::LandmarkMapBuffer& out) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open");
+  parse_landmark_csv(in, path, out);
+}
+
+void parse_landmark_csv(std::istream& in, const std::string& path, est::LandmarkMapBuffer& out) {
   out.clear();
   std::string line;
   int n = 0;

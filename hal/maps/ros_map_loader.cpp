@@ -93,7 +93,6 @@ PgmImage parse_pgm(const std::string& bytes, const std::string& name) {
   img.height = static_cast<std::int32_t>(h);
   img.maxval = static_cast<std::int32_t>(maxval);
   const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
-  img.pixels.resize(n);
   if (binary) {
     // Exactly one whitespace byte separates maxval from the raster.
     if (c.i >= bytes.size() || !std::isspace(static_cast<unsigned char>(bytes[c.i])))
@@ -104,17 +103,27 @@ PgmImage parse_pgm(const std::string& bytes, const std::string& name) {
     if (bytes.size() - c.i < need)
       fail(name, "truncated PGM raster: " + std::to_string(need) + " bytes expected, " +
                      std::to_string(bytes.size() - c.i) + " present");
+    img.pixels.resize(n);  // after the size check: a 20-byte header claiming 16384 x 16384 allocates nothing
     for (std::size_t k = 0; k < n; ++k) {
       const auto b0 = static_cast<unsigned char>(bytes[c.i + k * bpp]);
       unsigned v = b0;
       if (bpp == 2) v = (v << 8) | static_cast<unsigned char>(bytes[c.i + k * bpp + 1]);
-      if (v > static_cast<unsigned>(maxval)) fail(name, "pixel value above maxval at index " + std::to_string(k));
+      if (v > static_cast<unsigned>(maxval))
+        fail(name, "pixel value above maxval at index " + std::to_string(k) + " (byte " +
+                       std::to_string(c.i + k * bpp) + ")");
       img.pixels[k] = static_cast<std::uint16_t>(v);
     }
   } else {
+    // At least one byte per pixel, checked before the raster is allocated.
+    if (bytes.size() - c.i < n)
+      fail(name, "truncated or non-numeric P2 raster: " + std::to_string(n) + " pixels expected, " +
+                     std::to_string(bytes.size() - c.i) + " bytes present");
+    img.pixels.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
       long v = 0;
-      if (!c.integer(v)) fail(name, "truncated or non-numeric P2 raster at pixel " + std::to_string(k));
+      if (!c.integer(v))
+        fail(name, "truncated or non-numeric P2 raster at pixel " + std::to_string(k) + " (byte " +
+                       std::to_string(c.i) + ")");
       if (v > maxval) fail(name, "pixel value above maxval at index " + std::to_string(k));
       img.pixels[k] = static_cast<std::uint16_t>(v);
     }
@@ -133,53 +142,54 @@ RosMapInfo parse_ros_map_yaml(const std::string& text, const std::string& name) 
   std::vector<std::string> seen;
   while (std::getline(in, line)) {
     ++line_no;
+    const std::string at = name + ":" + std::to_string(line_no);  // the place of what this line holds
     const std::size_t hash = line.find('#');
     if (hash != std::string::npos) line = line.substr(0, hash);
     if (trim(line).empty()) continue;
     const std::size_t colon = line.find(':');
-    if (colon == std::string::npos) fail(name, "line " + std::to_string(line_no) + ": expected 'key: value'");
+    if (colon == std::string::npos) fail(at, "expected 'key: value'");
     const std::string key = trim(line.substr(0, colon));
     const std::string value = trim(line.substr(colon + 1));
     for (const auto& k : seen)
-      if (k == key) fail(name, "line " + std::to_string(line_no) + ": duplicate key '" + key + "'");
+      if (k == key) fail(at, "duplicate key '" + key + "'");
     seen.push_back(key);
     if (key == "image") {
       info.image = unquote(value);
-      if (info.image.empty()) fail(name, "'image' is empty");
+      if (info.image.empty()) fail(at, "'image' is empty");
       have_image = true;
     } else if (key == "resolution") {
-      const double r = number(value, key, name);
-      if (!(r > 0.0)) fail(name, "'resolution' must be > 0");
+      const double r = number(value, key, at);
+      if (!(r > 0.0)) fail(at, "'resolution' must be > 0");
       info.resolution = static_cast<float>(r);
       have_res = true;
     } else if (key == "origin") {
       if (value.size() < 2 || value.front() != '[' || value.back() != ']')
-        fail(name, "'origin' must be a list [x, y, yaw]");
+        fail(at, "'origin' must be a list [x, y, yaw]");
       std::vector<double> v;
       std::stringstream ss(value.substr(1, value.size() - 2));
       std::string item;
-      while (std::getline(ss, item, ',')) v.push_back(number(item, "origin", name));
-      if (v.size() != 3) fail(name, "'origin' must have exactly 3 numbers [x, y, yaw]");
+      while (std::getline(ss, item, ',')) v.push_back(number(item, "origin", at));
+      if (v.size() != 3) fail(at, "'origin' must have exactly 3 numbers [x, y, yaw]");
       info.origin_x = static_cast<float>(v[0]);
       info.origin_y = static_cast<float>(v[1]);
       info.origin_yaw = static_cast<float>(v[2]);
       have_origin = true;
     } else if (key == "negate") {
-      const double n = number(value, key, name);
-      if (n != 0.0 && n != 1.0) fail(name, "'negate' must be 0 or 1");
+      const double n = number(value, key, at);
+      if (n != 0.0 && n != 1.0) fail(at, "'negate' must be 0 or 1");
       info.negate = n == 1.0;
     } else if (key == "occupied_thresh") {
-      info.occupied_thresh = number(value, key, name);
+      info.occupied_thresh = number(value, key, at);
       have_occ = true;
     } else if (key == "free_thresh") {
-      info.free_thresh = number(value, key, name);
+      info.free_thresh = number(value, key, at);
       have_free = true;
     } else if (key == "mode") {
       const std::string m = unquote(value);
       if (m == "trinary") info.mode = MapMode::trinary;
       else if (m == "scale") info.mode = MapMode::scale;
       else if (m == "raw") info.mode = MapMode::raw;
-      else fail(name, "unknown 'mode' '" + m + "' (trinary, scale or raw)");
+      else fail(at, "unknown 'mode' '" + m + "' (trinary, scale or raw)");
     }
     // Other keys (e.g. a comment-like 'name') are ignored, as map_server does.
   }

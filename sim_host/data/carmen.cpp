@@ -21,6 +21,7 @@
 #include "data/channels.hpp"
 #include "data/formats.hpp"
 #include "data/line_reader.hpp"
+#include "hal/lcm/lcm_log_reader.hpp"
 #include "hal/sensors/range_scan/lcm.hpp"
 #include "node/lcm_log_io.hpp"
 
@@ -425,23 +426,21 @@ CarmenImport import_carmen(const std::string& path, const std::string& out_log, 
 
 CarmenLog read_carmen_log(const std::string& path) {
   CarmenLog out;
-  ::lcm::LogFile log(path, "r");
-  if (!log.good()) throw std::runtime_error(path + ": cannot open the log");
   std::map<std::int64_t, TimedPose> reference;
-  for (const ::lcm::LogEvent* e = log.readNextEvent(); e != nullptr; e = log.readNextEvent()) {
-    const std::string ch = e->channel;
+  hal::lcm::read_lcm_log(path, "sim_host: warning", stderr, [&](const hal::lcm::LcmLogEvent& e) {
+    const std::string ch = e.channel;
     if (ch == kReferenceChannel) {
       est_lcm::ground_truth_t g;
-      if (g.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad ground_truth_t");
+      if (g.decode(e.data.data(), 0, e.size()) < 0) throw std::runtime_error(path + ": bad ground_truth_t");
       out.reference.push_back({g.stamp_ns, g.x_m, g.y_m, g.theta_rad});
       reference[g.stamp_ns] = out.reference.back();
     } else if (ch == "EST_ODOMETRY") {
       est_lcm::odometry_t m;
-      if (m.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad odometry_t");
+      if (m.decode(e.data.data(), 0, e.size()) < 0) throw std::runtime_error(path + ": bad odometry_t");
       out.odometry.push_back({m.stamp_ns, m.x_m, m.y_m, m.theta_rad});
     } else if (ch == "EST_RANGE_SCAN") {
       est_lcm::range_scan_t m;
-      if (m.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad range_scan_t");
+      if (m.decode(e.data.data(), 0, e.size()) < 0) throw std::runtime_error(path + ": bad range_scan_t");
       CarmenScan s;
       s.t_ns = m.stamp_ns;
       s.geometry = {m.angle_min_rad, m.angle_increment_rad, m.range_min_m, m.range_max_m};
@@ -451,7 +450,7 @@ CarmenLog read_carmen_log(const std::string& path) {
       s.reference = it->second;
       out.scans.push_back(std::move(s));
     }
-  }
+  });
   return out;
 }
 

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "hal/lcm/lcm_log_reader.hpp"
+
 namespace sim::data {
 double wrap_angle(double a) { return std::remainder(a, 2.0 * M_PI); }
 
@@ -68,14 +70,12 @@ std::vector<ErrorSample> error_series(const Trajectory& est, const Trajectory& r
 
 Trajectory read_pose_estimates(const std::string& path) {
   Trajectory out;
-  ::lcm::LogFile log(path, "r");
-  if (!log.good()) throw std::runtime_error(path + ": cannot open");
-  for (const ::lcm::LogEvent* e = log.readNextEvent(); e != nullptr; e = log.readNextEvent()) {
-    if (e->channel != "EST_POSE") continue;
+  hal::lcm::read_lcm_log(path, "sim_host: warning", stderr, [&](const hal::lcm::LcmLogEvent& e) {
+    if (e.channel != "EST_POSE") return;
     est_lcm::pose_estimate_t p;
-    if (p.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad pose_estimate_t");
+    if (p.decode(e.data.data(), 0, e.size()) < 0) throw std::runtime_error(path + ": bad pose_estimate_t");
     out.push_back({p.stamp_ns, p.x_m, p.y_m, p.theta_rad});
-  }
+  });
   return out;
 }
 

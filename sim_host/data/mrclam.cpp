@@ -22,6 +22,7 @@
 #include "data/formats.hpp"
 #include "data/eval_report.hpp"
 #include "data/line_reader.hpp"
+#include "hal/lcm/lcm_log_reader.hpp"
 
 namespace sim::data {
 namespace {
@@ -260,34 +261,32 @@ std::vector<MrclamRobotLog> read_mrclam_log(const std::string& path, const std::
     channel[robot_channel("EST_LANDMARKS", s)] = {out.size() - 1, 2};
     channel[robot_channel(kRobotSightingsChannel, s)] = {out.size() - 1, 3};
   }
-  ::lcm::LogFile log(path, "r");
-  if (!log.good()) throw std::runtime_error(path + ": cannot open the log");
-  for (const ::lcm::LogEvent* e = log.readNextEvent(); e != nullptr; e = log.readNextEvent()) {
-    const auto it = channel.find(e->channel);
-    if (it == channel.end()) continue;
+  hal::lcm::read_lcm_log(path, "sim_host: warning", stderr, [&](const hal::lcm::LcmLogEvent& e) {
+    const auto it = channel.find(e.channel);
+    if (it == channel.end()) return;
     MrclamRobotLog& r = out[it->second.first];
     switch (it->second.second) {
       case 0: {
         est_lcm::ground_truth_t g;
-        if (g.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad ground_truth_t");
+        if (g.decode(e.data.data(), 0, e.size()) < 0) throw std::runtime_error(path + ": bad ground_truth_t");
         r.truth.push_back({g.stamp_ns, g.x_m, g.y_m, g.theta_rad});
         break;
       }
       case 1: {
         est_lcm::twist_t t;
-        if (t.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad twist_t");
+        if (t.decode(e.data.data(), 0, e.size()) < 0) throw std::runtime_error(path + ": bad twist_t");
         r.twists.push_back({t.stamp_ns, t.v1_mps, t.w_rps});
         break;
       }
       default: {
         est_lcm::landmark_sighting_t m;
-        if (m.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad landmark_sighting_t");
+        if (m.decode(e.data.data(), 0, e.size()) < 0) throw std::runtime_error(path + ": bad landmark_sighting_t");
         auto& list = it->second.second == 2 ? r.landmarks : r.robots;
         for (std::size_t i = 0; i < static_cast<std::size_t>(m.num_features); ++i)
           list.push_back({m.stamp_ns, m.id[i], m.range_m[i], m.bearing_rad[i]});
       }
     }
-  }
+  });
   return out;
 }
 

@@ -12,6 +12,7 @@
 #include <est_lcm/ground_truth_t.hpp>
 #include <est_lcm/pose_estimate_t.hpp>
 
+#include "hal/lcm/lcm_log_reader.hpp"
 #include "sim/plot.hpp"
 
 namespace sim::data {
@@ -39,25 +40,20 @@ std::string file_key(const std::string& suffix) { return suffix.empty() ? "robot
 std::vector<LogSeries> read_log_series(const std::vector<std::string>& logs) {
   std::map<std::string, LogSeries> by;
   for (const std::string& path : logs) {
-    ::lcm::LogFile log(path, "r");
-    if (!log.good()) throw std::runtime_error(path + ": cannot open as an LCM log");
-    std::uint64_t events = 0;
-    for (const ::lcm::LogEvent* e = log.readNextEvent(); e != nullptr; e = log.readNextEvent()) {
-      ++events;
+    hal::lcm::read_lcm_log(path, "sim_host plot: warning", stderr, [&](const hal::lcm::LcmLogEvent& e) {
       std::string s;
-      if (suffix_of(e->channel, "EST_POSE", s)) {
+      if (suffix_of(e.channel, "EST_POSE", s)) {
         est_lcm::pose_estimate_t p;
-        if (p.decode(e->data, 0, e->datalen) != e->datalen)
-          throw std::runtime_error(path + ": " + e->channel + ": not a pose_estimate_t");
+        if (p.decode(e.data.data(), 0, e.size()) != e.size())
+          throw std::runtime_error(path + ": " + e.channel + ": not a pose_estimate_t");
         by[s].estimate.push_back({p.stamp_ns, p.x_m, p.y_m, p.theta_rad});
-      } else if (suffix_of(e->channel, "EST_GROUND_TRUTH", s)) {
+      } else if (suffix_of(e.channel, "EST_GROUND_TRUTH", s)) {
         est_lcm::ground_truth_t g;
-        if (g.decode(e->data, 0, e->datalen) != e->datalen)
-          throw std::runtime_error(path + ": " + e->channel + ": not a ground_truth_t");
+        if (g.decode(e.data.data(), 0, e.size()) != e.size())
+          throw std::runtime_error(path + ": " + e.channel + ": not a ground_truth_t");
         by[s].truth.push_back({g.stamp_ns, g.x_m, g.y_m, g.theta_rad});
       }
-    }
-    if (events == 0) throw std::runtime_error(path + ": no LCM event in it (not an LCM log?)");
+    });
   }
   std::vector<LogSeries> out;
   for (auto& [suffix, series] : by) {

@@ -18,6 +18,7 @@
 #include "data/line_reader.hpp"
 #include "data/tricycle_eval.hpp"
 #include "hal/lcm/channels.hpp"
+#include "hal/lcm/lcm_log_reader.hpp"
 #include "node/lcm_log_io.hpp"
 
 namespace sim::data {
@@ -234,16 +235,14 @@ TricycleImport import_tricycle(const std::string& file, const std::string& out_l
 
 std::vector<TricycleRecord> read_tricycle_log(const std::string& path) {
   std::vector<TricycleRecord> out;
-  ::lcm::LogFile log(path, "r");
-  if (!log.good()) throw std::runtime_error(path + ": cannot open the log");
   // The importer writes the four messages of a record with one stamp, the traction ticks first.
   TricycleRecord r;
   int have = 0;
-  for (const ::lcm::LogEvent* e = log.readNextEvent(); e != nullptr; e = log.readNextEvent()) {
-    const std::string& ch = e->channel;
+  hal::lcm::read_lcm_log(path, "sim_host: warning", stderr, [&](const hal::lcm::LcmLogEvent& e) {
+    const std::string& ch = e.channel;
     if (ch == channels().wheel_ticks || ch == kSteeringTicksChannel) {
       est_lcm::encoder_ticks_t m;
-      if (m.decode(e->data, 0, e->datalen) < 0 || m.num_wheels < 1) throw std::runtime_error(path + ": bad ticks");
+      if (m.decode(e.data.data(), 0, e.size()) < 0 || m.num_wheels < 1) throw std::runtime_error(path + ": bad ticks");
       if (ch == channels().wheel_ticks) {
         r = TricycleRecord{};
         r.t_ns = m.stamp_ns;
@@ -255,13 +254,13 @@ std::vector<TricycleRecord> read_tricycle_log(const std::string& path) {
       }
     } else if (ch == kGroundTruthChannel && have == 2) {
       est_lcm::ground_truth_t g;
-      if (g.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad ground_truth_t");
-      if (g.stamp_ns != r.t_ns) continue;
+      if (g.decode(e.data.data(), 0, e.size()) < 0) throw std::runtime_error(path + ": bad ground_truth_t");
+      if (g.stamp_ns != r.t_ns) return;
       r.tracker = {g.stamp_ns, g.x_m, g.y_m, g.theta_rad};
       out.push_back(r);
       have = 0;
     }
-  }
+  });
   return out;
 }
 

@@ -21,6 +21,7 @@
 #include "data/formats.hpp"
 #include "data/line_reader.hpp"
 #include "hal/lcm/channels.hpp"
+#include "hal/lcm/lcm_log_reader.hpp"
 
 namespace sim::data {
 namespace {
@@ -176,31 +177,29 @@ VictoriaImport import_victoria(const std::string& dir, const std::string& out_lo
 
 VictoriaLog read_victoria_log(const std::string& path) {
   VictoriaLog out;
-  ::lcm::LogFile log(path, "r");
-  if (!log.good()) throw std::runtime_error(path + ": cannot open the log");
-  for (const ::lcm::LogEvent* e = log.readNextEvent(); e != nullptr; e = log.readNextEvent()) {
-    if (e->channel == channels().wheel_ticks) {
+  hal::lcm::read_lcm_log(path, "sim_host: warning", stderr, [&](const hal::lcm::LcmLogEvent& e) {
+    if (e.channel == channels().wheel_ticks) {
       est_lcm::encoder_ticks_t m;
-      if (m.decode(e->data, 0, e->datalen) < 0 || m.num_wheels < 1) throw std::runtime_error(path + ": bad ticks");
+      if (m.decode(e.data.data(), 0, e.size()) < 0 || m.num_wheels < 1) throw std::runtime_error(path + ": bad ticks");
       out.ticks.push_back({m.stamp_ns, static_cast<std::uint32_t>(m.count[0])});
-    } else if (e->channel == channels().steering) {
+    } else if (e.channel == channels().steering) {
       est_lcm::steering_t m;
-      if (m.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad steering_t");
+      if (m.decode(e.data.data(), 0, e.size()) < 0) throw std::runtime_error(path + ": bad steering_t");
       out.steering.push_back({m.stamp_ns, m.angle_rad});
-    } else if (e->channel == channels().landmarks) {
+    } else if (e.channel == channels().landmarks) {
       est_lcm::landmark_sighting_t m;
-      if (m.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad landmark_sighting_t");
+      if (m.decode(e.data.data(), 0, e.size()) < 0) throw std::runtime_error(path + ": bad landmark_sighting_t");
       VictoriaScan s;
       s.t_ns = m.stamp_ns;
       for (std::size_t i = 0; i < static_cast<std::size_t>(m.num_features); ++i)
         s.trees.push_back({m.range_m[i], m.bearing_rad[i], m.signature[i]});
       out.scans.push_back(std::move(s));
-    } else if (e->channel == kGpsChannel) {
+    } else if (e.channel == kGpsChannel) {
       est_lcm::ground_truth_t g;
-      if (g.decode(e->data, 0, e->datalen) < 0) throw std::runtime_error(path + ": bad ground_truth_t");
+      if (g.decode(e.data.data(), 0, e.size()) < 0) throw std::runtime_error(path + ": bad ground_truth_t");
       out.gps.push_back({g.stamp_ns, g.x_m, g.y_m, 0.0});
     }
-  }
+  });
   return out;
 }
 

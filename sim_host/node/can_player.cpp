@@ -18,6 +18,7 @@
 #include "hal/can/sample_frames.hpp"
 #include "hal/lcm/lcm_backend.hpp"
 #include "hal/lcm/lcm_convert.hpp"
+#include "hal/lcm/lcm_log_reader.hpp"
 #include "hal/sensors/range_scan/can_frames.hpp"
 #include "hal/socketcan/socketcan_bus.hpp"
 
@@ -120,7 +121,7 @@ int main(int argc, char** argv) {
   app.add_option("--ch-scan", ic.channels.range_scan, "LCM channel of the scans")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
-  ::lcm::LogFile log(log_path, "r");
+  hal::lcm::LcmLogReader log(log_path);
   if (!log.good()) {
     std::fprintf(stderr, "can_player: cannot read %s\n", log_path.c_str());
     return 1;
@@ -149,14 +150,20 @@ int main(int argc, char** argv) {
   ::lcm::LCM memq("memq://");
   hal::lcm::LcmInputs inputs(memq, ic, player);
   std::uint64_t undecodable = 0;
-  while (const ::lcm::LogEvent* ev = log.readNextEvent()) {
-    if (!inputs.is_input_channel(ev->channel)) continue;
+  hal::lcm::LcmLogEvent ev;
+  while (log.next(ev)) {
+    if (!inputs.is_input_channel(ev.channel)) continue;
     const std::uint64_t before = inputs.rejects().total();
-    memq.publish(ev->channel, ev->data, static_cast<unsigned>(ev->datalen));
+    memq.publish(ev.channel, ev.data.data(), static_cast<unsigned>(ev.data.size()));
     memq.handle();
     if (inputs.rejects().total() != before) ++undecodable;
   }
   if (out.file != nullptr) std::fclose(out.file);
+  if (log.events() == 0) {
+    std::fprintf(stderr, "can_player: %s\n", hal::lcm::log_refusal(log, log_path).what());
+    return 2;
+  }
+  log.print_problems(stderr, "can_player: warning", log_path);
   std::fprintf(stderr, "can_player: messages=%llu frames=%llu send_failed=%llu skipped=%llu undecodable=%llu\n",
                static_cast<unsigned long long>(player.messages()), static_cast<unsigned long long>(out.frames),
                static_cast<unsigned long long>(out.failed), static_cast<unsigned long long>(player.skipped()),

@@ -27,6 +27,7 @@
 #include "hal/forward.hpp"
 #include "hal/lcm/lcm_backend.hpp"
 #include "hal/lcm/lcm_convert.hpp"
+#include "hal/lcm/lcm_log_reader.hpp"
 #include "hal/maps/landmark_file.hpp"
 #include "hal/maps/ros_map_loader.hpp"
 #include "hal/socketcan/socketcan_bus.hpp"
@@ -354,7 +355,7 @@ struct Node::Impl {
   }
 
   int run_replay_lcm() {
-    ::lcm::LogFile in(c.replay_path, "r");
+    hal::lcm::LcmLogReader in(c.replay_path);
     if (!in.good()) {
       std::fprintf(stderr, "estimator_node: cannot read %s\n", c.replay_path.c_str());
       return 1;
@@ -366,19 +367,24 @@ struct Node::Impl {
     refresh(0);
     wait_for_viewer();
     Pacer pacer(c.replay_speed);
-    while (g_stop_signal.load() == 0) {
-      const ::lcm::LogEvent* ev = in.readNextEvent();
-      if (ev == nullptr) break;
+    hal::lcm::LcmLogEvent ev;
+    while (g_stop_signal.load() == 0 && in.next(ev)) {
       ++log_events;
-      pacer.at(ev->timestamp * 1000);  // the log's receive time, us
-      if (view && ev->channel == c.channels.ground_truth) view_truth(ev->data, static_cast<std::size_t>(ev->datalen));
-      if (!lcm_inputs->is_input_channel(ev->channel)) continue;
+      pacer.at(ev.timestamp_us * 1000);  // the log's receive time, us
+      if (view && ev.channel == c.channels.ground_truth) view_truth(ev.data.data(), ev.data.size());
+      if (!lcm_inputs->is_input_channel(ev.channel)) continue;
       ++log_inputs;
-      lcm_in->publish(ev->channel, ev->data, static_cast<unsigned>(ev->datalen));
+      lcm_in->publish(ev.channel, ev.data.data(), static_cast<unsigned>(ev.data.size()));
       lcm_in->handle();
       refresh(0);
       feed_view();
     }
+    log_problems = in.problems_total();
+    if (in.refused() || in.events() == 0) {  // nothing to replay: say why and fail
+      std::fprintf(stderr, "estimator_node: %s\n", hal::lcm::log_refusal(in, c.replay_path).what());
+      return 2;
+    }
+    in.print_problems(stderr, "estimator_node: warning", c.replay_path);
     return 0;
   }
 
@@ -517,8 +523,9 @@ struct Node::Impl {
     std::fprintf(f, "  map: %s; estimator: %s\n", maps->view.description.c_str(), pipeline->description().c_str());
     std::fprintf(f, "  initial belief: %s\n", initial_belief(c.spec).c_str());
     if (replay)
-      std::fprintf(f, "  log: events=%llu inputs=%llu wall_s=%.3f\n", static_cast<unsigned long long>(log_events),
-                   static_cast<unsigned long long>(log_inputs), wall_s);
+      std::fprintf(f, "  log: events=%llu inputs=%llu problems=%llu wall_s=%.3f\n",
+                   static_cast<unsigned long long>(log_events), static_cast<unsigned long long>(log_inputs),
+                   static_cast<unsigned long long>(log_problems), wall_s);
     else
       std::fprintf(f, "  run: wall_s=%.3f live_speed=%g\n", wall_s, c.live_speed);
     if (alignment && alignment->aligned())
@@ -624,7 +631,7 @@ struct Node::Impl {
   std::unique_ptr<hal::can::CanInput> can_input;
   std::unique_ptr<hal::can::CanEstimateSink> can_sink;
   std::uint32_t lcm_rejects_seen = 0;
-  std::uint64_t log_events = 0, log_inputs = 0, candump_rejects = 0;
+  std::uint64_t log_events = 0, log_inputs = 0, log_problems = 0, candump_rejects = 0;
   double wall_s = 0.0;
   int stop_signal = 0;
   std::optional<std::uint64_t> udp_drops_at_end;  // live LCM: the kernel's drops on the node's sockets
@@ -640,5 +647,6 @@ std::uint64_t Node::estimates() const { return impl_->outputs.count(); }
 std::uint32_t Node::rejects_total() const { return impl_->rejects_total(); }
 std::uint64_t Node::log_events() const { return impl_->log_events; }
 std::uint64_t Node::log_inputs() const { return impl_->log_inputs; }
+std::uint64_t Node::log_problems() const { return impl_->log_problems; }
 
 }  // namespace node

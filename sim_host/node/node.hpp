@@ -42,6 +42,7 @@ class Node {
   std::uint32_t rejects_total() const;                         // everywhere: transports, HAL, loop port
   std::uint64_t log_events() const;                            // replay: events read, and sensor inputs among them
   std::uint64_t log_inputs() const;
+  std::uint64_t log_problems() const;  // replay: faults of the LCM log (cut, bad sync word, impossible length)
 
  private:
   struct Impl;

@@ -11,28 +11,27 @@
 #include <vector>
 
 #include "est/map/ray_casting.hpp"
+#include "hal/lcm/lcm_log_reader.hpp"
 #include "est/sensor/range_scan.hpp"
 
 namespace sim {
 
 LearnBeamModelResult learn_beam_model_from_log(const LearnBeamModelOptions& o) {
   if (o.beam_stride < 1) throw std::invalid_argument("learn-beam-model: --stride must be >= 1");
-  lcm::LogFile log(o.log_path, "r");
-  if (!log.good()) throw std::runtime_error("learn-beam-model: cannot read the LCM log " + o.log_path);
 
   // Ground truth by stamp, scans kept whole; the log is small enough to hold (one scan every 100 ms).
   std::map<std::int64_t, est::Pose2> truth;
   std::vector<est_lcm::range_scan_t> scans;
-  for (const lcm::LogEvent* e = log.readNextEvent(); e != nullptr; e = log.readNextEvent()) {
-    const int n = static_cast<int>(e->datalen);
-    if (e->channel == "EST_GROUND_TRUTH") {
+  hal::lcm::read_lcm_log(o.log_path, "learn-beam-model: warning", stderr, [&](const hal::lcm::LcmLogEvent& e) {
+    const int n = e.size();
+    if (e.channel == "EST_GROUND_TRUTH") {
       est_lcm::ground_truth_t m{};
-      if (m.decode(e->data, 0, n) == n) truth[m.stamp_ns] = {m.x_m, m.y_m, m.theta_rad};
-    } else if (e->channel == "EST_RANGE_SCAN") {
+      if (m.decode(e.data.data(), 0, n) == n) truth[m.stamp_ns] = {m.x_m, m.y_m, m.theta_rad};
+    } else if (e.channel == "EST_RANGE_SCAN") {
       est_lcm::range_scan_t m{};
-      if (m.decode(e->data, 0, n) == n) scans.push_back(std::move(m));
+      if (m.decode(e.data.data(), 0, n) == n) scans.push_back(std::move(m));
     }
-  }
+  });
   if (truth.empty() || scans.empty())
     throw std::runtime_error("learn-beam-model: the log has no EST_GROUND_TRUTH or no EST_RANGE_SCAN messages");
 
