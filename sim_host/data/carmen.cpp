@@ -128,6 +128,10 @@ CarmenData parse_carmen(const std::string& path, const CarmenImportOptions& o, I
           report.bad_line(path, ln, "FLASER: the field count does not match its beam count");
           continue;
         }
+        if (count < 2) {  // one beam spans no angle: its increment (180 deg over n - 1) is undefined
+          report.bad_line(path, ln, "FLASER: fewer than 2 beams");
+          continue;
+        }
         n = static_cast<std::size_t>(count);
         pose_at = 2 + n;
         s.geometry.angle_min_rad = static_cast<float>(-M_PI / 2.0);
@@ -153,6 +157,12 @@ CarmenData parse_carmen(const std::string& path, const CarmenImportOptions& o, I
         s.geometry.angle_min_rad = static_cast<float>(g[0]);
         s.geometry.angle_increment_rad = static_cast<float>(g[2]);
         s.geometry.range_max_m = static_cast<float>(g[3]);
+        // A finite double can still overflow the float of the scan's geometry.
+        if (!std::isfinite(s.geometry.angle_min_rad) || !std::isfinite(s.geometry.angle_increment_rad) ||
+            !std::isfinite(s.geometry.range_max_m)) {
+          report.bad_line(path, ln, "ROBOTLASER1: an angle or the maximum range does not fit a float");
+          continue;
+        }
       }
       s.ranges.resize(n);
       bool ok = true;
