@@ -100,3 +100,18 @@ TEST_CASE("trajectory errors interpolate the reference and wrap headings", "[dat
   CHECK(e.rmse_theta_rad == Approx(0.0).margin(1e-9));  // 3.1 -> -3.1 interpolates through pi, not through 0
   CHECK(trajectory_error(est, ref, 100).n == 0);         // a gap longer than allowed is no reference
 }
+
+TEST_CASE("a NUL byte inside a line is part of the line, so the row is refused rather than read as blank",
+          "[data]") {
+  // The datasets' fuzzer found a row with a NUL byte passed over in silence: the reader cut the line at the NUL and
+  // the rest looked blank.
+  const std::string path = temp_path("nul.dat");
+  const std::string text = std::string("1 2\n") + std::string("\0 3\n", 4) + "4 5\n";
+  std::ofstream(path, std::ios::binary) << text;
+  ImportReport skip(OnError::skip, nullptr);
+  const NumericRows rows = read_numeric_rows(path, 2, skip);
+  REQUIRE(rows.values.size() == 2u);
+  CHECK(rows.lines[1] == 3u);
+  CHECK(skip.skipped_total() == 1);
+  CHECK(skip.skipped().at("a field is not a finite number") == 1);
+}

@@ -142,3 +142,22 @@ TEST_CASE("the calibrated tricycle odometry beats the header's guesses on the he
   CHECK(ev.node_after.rmse_xy_m < 0.4);
   CHECK(ev.node_after.rmse_theta_rad < 0.1);
 }
+
+TEST_CASE("a tricycle record whose time or pose a log cannot carry is skipped by reason", "[tricycle]") {
+  // Synthetic (no dataset needed): the fuzzer of the importer found 170000000895 s overflowing the nanosecond stamp,
+  // and a tracked pose beyond a float's range became infinite in the log.
+  const std::string dir = temp_dir("ranges");
+  const std::string file = dir + "/dataset.txt";
+  std::ofstream(file) << "time: 1700000000.0 ticks: 300 4294967000 model_pose: 0 0 0 tracker_pose: 0 0 0\n"
+                         "time: 170000000895.5 ticks: 300 4294967100 model_pose: 0 0 0 tracker_pose: 0 0 0\n"
+                         "time: 1700000000.1 ticks: 300 4294967100 model_pose: 0 0 0 tracker_pose: 1e39 0 0\n"
+                         "time: 1700000000.2 ticks: 301 4294967200 model_pose: 0 0 0 tracker_pose: 0.01 0 0\n";
+  ImportReport skip(OnError::skip, nullptr);
+  const TricycleImport r = import_tricycle(file, dir + "/out.lcmlog", {}, skip);
+  CHECK(r.records == 2u);
+  CHECK(skip.skipped().at("time is not seconds.nanoseconds (0 .. 9.2e9 s)") == 1);
+  CHECK(skip.skipped().at("a tracker pose field is not a finite number (of a float's range)") == 1);
+  const std::vector<TricycleRecord> back = read_tricycle_log(dir + "/out.lcmlog");
+  REQUIRE(back.size() == 2u);
+  CHECK(back[1].tracker.x == Approx(0.01));
+}

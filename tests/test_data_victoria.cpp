@@ -166,3 +166,33 @@ TEST_CASE("Victoria Park, first 600 s: EKF-SLAM stays within 3.5 m RMSE of GPS t
   CHECK(slam.landmarks <= 220);
   CHECK(slam.refused == 0u);
 }
+
+TEST_CASE("Victoria Park rows beyond what a log can carry are refused by reason, and an import of nothing is refused",
+          "[victoria]") {
+  // Synthetic files (no dataset needed): what the fuzzer of the importer found passing into the log as overflowed
+  // stamps, infinite floats or a wrapped count.
+  const std::string dir = temp_dir("ranges");
+  std::ofstream(dir + "/inputs.dat") << "1.0 2.0 0.0\n-3.0 2.0 0.0\n1.1 500.0 0.0\n1.2 2.0 0.01\n2e9 2.0 0.0\n";
+  std::ofstream(dir + "/measurements.dat") << "1.05 20.0 1.0 0.3\n1.06 20.0 1.0 1e300\n";
+  std::ofstream(dir + "/gps.dat") << "1.0 -3.0 -2.0\n1.1 1e39 0.0\n";
+  ImportReport skip(OnError::skip, nullptr);
+  const VictoriaImport r = import_victoria(dir, dir + "/out.lcmlog", {}, skip);
+  CHECK(r.inputs == 2u);
+  CHECK(r.detections == 1u);
+  CHECK(r.gps == 1u);
+  CHECK(skip.skipped_total() == 5);
+  CHECK(skip.skipped().at("time outside 0 .. 1e9 s") == 1);  // 2e9 s; -3 s is earlier than the row before it
+  CHECK(skip.skipped().at("time before the previous row's") == 1);
+  CHECK(skip.skipped().at("speed beyond 100 m/s") == 1);
+  CHECK(skip.skipped().at("diameter outside [0, 100] m") == 1);
+  CHECK(skip.skipped().at("position beyond 1e7 m") == 1);
+
+  std::ofstream(dir + "/inputs.dat", std::ios::trunc) << "% no sample\n";
+  ImportReport none(OnError::skip, nullptr);
+  try {
+    import_victoria(dir, dir + "/none.lcmlog", {}, none);
+    FAIL("an import of no speed sample must be refused");
+  } catch (const std::runtime_error& e) {
+    CHECK(std::string(e.what()) == dir + ": no speed and steering sample imported from inputs.dat");
+  }
+}

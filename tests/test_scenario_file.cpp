@@ -79,6 +79,10 @@ TEST_CASE("a malformed scenario is refused with its file, line, column and reaso
       {"seed = 1\nseed = 2\n", "f.toml:2:", "cannot redefine existing integer 'seed'"},
       {"[robot\nmodel = \"bicycle\"\n", "f.toml:1:", ""},
       {"description = \"unterminated\n", "f.toml:1:", ""},
+      // A check against a default names the table when the key is left out (the scenario fuzzer's find: it read
+      // the absent key's node, a null reference).
+      {"[sensors.rangefinder]\np_rand = 0.999\n", "f.toml:1:1: ", "p_rand + p_short must be <= 1"},
+      {"[sensors.rangefinder]\np_rand = 0.5\np_short = 0.6\n", "f.toml:3:11: ", "p_rand + p_short must be <= 1"},
   };
   for (const Case& c : cases) {
     INFO(c.text);

@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 
@@ -22,18 +23,35 @@ bool LineReader::next(std::string& line) {
   line.clear();
   gzFile f = static_cast<gzFile>(file_);
   bool any = false;
-  while (gzgets(f, buffer_.data(), static_cast<int>(buffer_.size())) != nullptr) {
+  for (;;) {
+    if (begin_ == end_) {
+      if (eof_) break;
+      const int n = gzread(f, buffer_.data(), static_cast<unsigned>(buffer_.size()));
+      int err = Z_OK;
+      const char* msg = gzerror(f, &err);
+      // A cut gzip stream reads up to the cut, then says so (Z_BUF_ERROR).
+      if (n < 0 || (n == 0 && err != Z_OK && err != Z_STREAM_END))
+        throw std::runtime_error(path_ + ": read error: " + msg);
+      begin_ = 0;
+      end_ = static_cast<std::size_t>(n);
+      if (n == 0) {
+        eof_ = true;
+        break;
+      }
+    }
     any = true;
-    line += buffer_.data();
-    if (!line.empty() && line.back() == '\n') break;  // else a longer line than the buffer, or the last one
+    const char* b = buffer_.data() + begin_;
+    const void* nl = std::memchr(b, '\n', end_ - begin_);
+    const std::size_t take = nl != nullptr ? static_cast<std::size_t>(static_cast<const char*>(nl) - b) : end_ - begin_;
+    line.append(b, take);
+    begin_ += take;
+    if (nl != nullptr) {
+      ++begin_;  // the LF
+      break;
+    }
   }
-  if (!any) {
-    int err = Z_OK;
-    const char* msg = gzerror(f, &err);
-    if (err != Z_OK && err != Z_STREAM_END) throw std::runtime_error(path_ + ": read error: " + msg);
-    return false;
-  }
-  while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
+  if (!any) return false;
+  while (!line.empty() && line.back() == '\r') line.pop_back();
   ++line_;
   return true;
 }

@@ -15,7 +15,8 @@ class LineReader {
   LineReader(const LineReader&) = delete;
   LineReader& operator=(const LineReader&) = delete;
 
-  // The next line without its end (LF or CRLF); false at the end of the file. A read error throws.
+  // The next line without its end (LF or CRLF), every byte of it (a NUL byte too, which a field's parse then
+  // refuses); false at the end of the file. A read error throws.
   bool next(std::string& line);
   std::uint64_t line_number() const { return line_; }
   const std::string& path() const { return path_; }
@@ -25,6 +26,8 @@ class LineReader {
   std::string path_;
   std::uint64_t line_ = 0;
   std::vector<char> buffer_;
+  std::size_t begin_ = 0, end_ = 0;  // the bytes of buffer_ read and not yet handed out
+  bool eof_ = false;
 };
 
 // Whitespace-separated fields (spaces and tabs).

@@ -95,7 +95,9 @@ struct HeaderParser {
 bool parse_unix_ns(std::string_view f, std::int64_t& out) {
   const std::size_t dot = f.find('.');
   std::int64_t s = 0, frac = 0;
-  if (!parse_int(f.substr(0, dot), s) || s < 0) return false;
+  // Seconds up to 9.2e9 (the year 2262): beyond, nanoseconds overflow an int64.
+  if (!parse_int(f.substr(0, dot), s) || s < 0 || s >= std::numeric_limits<std::int64_t>::max() / 1000000000 - 1)
+    return false;
   if (dot != std::string_view::npos) {
     std::string_view d = f.substr(dot + 1);
     if (d.empty() || d.size() > 9 || !parse_int(d, frac) || frac < 0 || d.front() == '-' || d.front() == '+')
@@ -150,7 +152,7 @@ TricycleImport import_tricycle(const std::string& file, const std::string& out_l
     std::int64_t t_unix_ns = 0, steer = 0, traction = 0;
     double pose[3];
     if (!parse_unix_ns(f[1], t_unix_ns)) {
-      report.bad_line(file, in.line_number(), "time is not seconds.nanoseconds");
+      report.bad_line(file, in.line_number(), "time is not seconds.nanoseconds (0 .. 9.2e9 s)");
       continue;
     }
     if (!parse_int(f[3], steer) || !parse_int(f[4], traction)) {
@@ -159,8 +161,10 @@ TricycleImport import_tricycle(const std::string& file, const std::string& out_l
     }
     bool numbers = true;
     for (int k = 0; k < 3; ++k) numbers = numbers && parse_double(f[static_cast<std::size_t>(10 + k)], pose[k]);
+    // The log stores floats: a pose beyond a float's range is not a pose.
+    for (int k = 0; k < 3; ++k) numbers = numbers && std::fabs(pose[k]) <= 1e30;
     if (!numbers) {
-      report.bad_line(file, in.line_number(), "a tracker pose field is not a finite number");
+      report.bad_line(file, in.line_number(), "a tracker pose field is not a finite number (of a float's range)");
       continue;
     }
     if (steer < 0 || steer >= result.header.steer_max) {

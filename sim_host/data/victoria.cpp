@@ -29,6 +29,10 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr double kMaxSteer = 1.2;  // rad: beyond any car's stop (the data stays within 0.6)
+constexpr double kMaxTime = 1e9;   // s from the start: nanosecond stamps fit an int64 to 9.2e9 s
+constexpr double kMaxSpeed = 100.0;           // m/s (the data stays within 6)
+constexpr double kMaxGps = 1e7;               // m from the local origin (the fixes are within 300 m)
+constexpr std::size_t kMaxTrees = 32767;      // detections at one scan time: landmark_sighting_t counts them in int16
 
 const hal::lcm::Channels& channels() {
   static const hal::lcm::Channels c;
@@ -79,6 +83,14 @@ VictoriaImport import_victoria(const std::string& dir, const std::string& out_lo
   for (std::size_t k = 0; k < inputs.values.size(); ++k) {
     const auto& v = inputs.values[k];
     if (v[0] > t_end) break;
+    if (v[0] < 0.0 || v[0] > kMaxTime) {
+      report.bad_line(inputs.path, inputs.lines[k], "time outside 0 .. 1e9 s");
+      continue;
+    }
+    if (std::fabs(v[1]) > kMaxSpeed) {
+      report.bad_line(inputs.path, inputs.lines[k], "speed beyond 100 m/s");
+      continue;
+    }
     if (std::fabs(v[2]) > kMaxSteer) {
       report.bad_line(inputs.path, inputs.lines[k], "steering beyond 1.2 rad");
       continue;
@@ -129,6 +141,10 @@ VictoriaImport import_victoria(const std::string& dir, const std::string& out_lo
   for (std::size_t k = 0; k < trees.values.size(); ++k) {
     const auto& v = trees.values[k];
     if (v[0] > t_end) break;
+    if (v[0] < 0.0 || v[0] > kMaxTime) {
+      report.bad_line(trees.path, trees.lines[k], "time outside 0 .. 1e9 s");
+      continue;
+    }
     if (!(v[1] > 0.0) || v[1] > 100.0) {
       report.bad_line(trees.path, trees.lines[k], "range outside (0, 100] m");
       continue;
@@ -137,12 +153,16 @@ VictoriaImport import_victoria(const std::string& dir, const std::string& out_lo
       report.bad_line(trees.path, trees.lines[k], "beam angle outside [0, pi]");
       continue;
     }
-    if (!(v[3] >= 0.0)) {
-      report.bad_line(trees.path, trees.lines[k], "negative diameter");
+    if (!(v[3] >= 0.0) || v[3] > 100.0) {
+      report.bad_line(trees.path, trees.lines[k], "diameter outside [0, 100] m");
       continue;
     }
     const std::int64_t t = stamp(v[0]);
     if (t != scan_t) flush();
+    if (range.size() == kMaxTrees) {
+      report.bad_line(trees.path, trees.lines[k], "more than 32767 detections at one time");
+      continue;
+    }
     scan_t = t;
     const double phi = v[2] - M_PI / 2.0;  // in the laser's frame, counter-clockwise from ahead
     const double x = g.laser_ahead + v[1] * std::cos(phi), y = g.laser_left + v[1] * std::sin(phi);
@@ -158,6 +178,14 @@ VictoriaImport import_victoria(const std::string& dir, const std::string& out_lo
   for (std::size_t k = 0; k < gps.values.size(); ++k) {
     const auto& v = gps.values[k];
     if (v[0] > t_end) break;
+    if (v[0] < 0.0 || v[0] > kMaxTime) {
+      report.bad_line(gps.path, gps.lines[k], "time outside 0 .. 1e9 s");
+      continue;
+    }
+    if (std::fabs(v[1]) > kMaxGps || std::fabs(v[2]) > kMaxGps) {
+      report.bad_line(gps.path, gps.lines[k], "position beyond 1e7 m");
+      continue;
+    }
     est_lcm::ground_truth_t fix;
     fix.stamp_ns = stamp(v[0]);
     fix.x_m = static_cast<float>(v[1]);
@@ -170,6 +198,8 @@ VictoriaImport import_victoria(const std::string& dir, const std::string& out_lo
     ++result.gps;
   }
 
+  if (result.inputs == 0)
+    throw std::runtime_error(result.folder + ": no speed and steering sample imported from inputs.dat");
   result.duration_s = static_cast<double>(events.last_ns()) * 1e-9;
   result.events = events.write_sorted(out_log);
   return result;

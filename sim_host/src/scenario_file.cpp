@@ -81,6 +81,11 @@ class Section {
   [[noreturn]] void fail_at(const toml::source_region& at, const std::string& reason) const {
     throw ScenarioFileError(located(source_, at, reason));
   }
+  // A refusal about `key`, at the key when the file has it, else at this table (a check that involves a default).
+  [[noreturn]] void fail_key(const char* key, const std::string& reason) {
+    if (const toml::node* n = get(key)) fail(*n, reason);
+    throw ScenarioFileError(located(source_, at_, reason));
+  }
 
   // Marks `key` read (and, for a value rather than a table, known to scenario_file_keys()).
   const toml::node* get(const char* key, bool value = true) {
@@ -234,7 +239,7 @@ void read_filter(Section& f, FilterOptions& fo) {
   fo.filter = type == "ekf" ? est::loop::Filter::ekf : est::loop::Filter::mcl;
   const std::string start = f.choice("start", type == "ekf" ? "tracking" : "global", {"global", "tracking"});
   if (type == "ekf" && start == "global")
-    f.fail(*f.get("start"), "filter.start: the EKF tracks from the true start pose: 'global' needs filter.type = 'mcl'");
+    f.fail_key("start", "filter.start: the EKF tracks from the true start pose: 'global' needs filter.type = 'mcl'");
   fo.start = start == "global" ? StartKind::global : StartKind::tracking;
   const std::string model = f.choice("sensor_model", "likelihood-field", {"likelihood-field", "beam", "steered"});
   node::parse(model, fo.range_model);
@@ -290,16 +295,16 @@ void read_sensors(Section& sensors, ScenarioConfig& s) {
   s.range_noise.p_rand = rf.number_f("p_rand", s.range_noise.p_rand, kProbability);
   s.range_noise.p_short = rf.number_f("p_short", s.range_noise.p_short, kProbability);
   if (s.range_noise.p_rand + s.range_noise.p_short > 1.0f)
-    rf.fail(*rf.get("p_short"), "sensors.rangefinder: p_rand + p_short must be <= 1");
+    rf.fail_key("p_short", "sensors.rangefinder: p_rand + p_short must be <= 1");
   const std::string mount = rf.choice("mount", "base", {"base", "handlebar"});
   s.handlebar = mount == "handlebar";
   if (s.handlebar && s.robot != RobotKind::bicycle)
-    rf.fail(*rf.get("mount"), "sensors.rangefinder.mount: the handlebar is the bicycle's (robot.model = 'bicycle')");
+    rf.fail_key("mount", "sensors.rangefinder.mount: the handlebar is the bicycle's (robot.model = 'bicycle')");
   s.handlebar_mount.sensor_on_part.x =
       rf.number_f("handlebar_offset_m", s.handlebar_mount.sensor_on_part.x, kNonNegative);
   const std::vector<float> pose = rf.numbers("base_pose", 3, kAny);
   if (!pose.empty()) {
-    if (s.handlebar) rf.fail(*rf.get("base_pose"), "sensors.rangefinder.base_pose: the rangefinder is on the handlebar");
+    if (s.handlebar) rf.fail_key("base_pose", "sensors.rangefinder.base_pose: the rangefinder is on the handlebar");
     s.rangefinder_mount = {pose[0], pose[1], pose[2]};
   }
   rf.done();
@@ -357,7 +362,7 @@ void read_team(Section& top, ScenarioFile& out) {
   if (!team::is_team_scenario(out.team)) {
     std::string all;
     for (const team::TeamScenarioInfo& i : team::team_scenarios()) all += (all.empty() ? "" : ", ") + i.name;
-    t.fail(*t.get("scenario"), "team.scenario: '" + out.team + "' is not one of " + all);
+    t.fail_key("scenario", "team.scenario: '" + out.team + "' is not one of " + all);
   }
   t.done();
 }
@@ -390,7 +395,7 @@ void read_simulate(Section& top, ScenarioFile& out) {
   s.landmarks_csv = beside(world.text("landmarks", ""));
   s.route = read_route(world);
   if (!s.map_yaml.empty() && s.route.empty())
-    world.fail(*world.get("map"), "world.route is required with world.map (at least two waypoints [x, y])");
+    world.fail_key("map", "world.route is required with world.map (at least two waypoints [x, y])");
   world.done();
 
   Section robot = top.table("robot");
@@ -409,7 +414,7 @@ void read_simulate(Section& top, ScenarioFile& out) {
   Section filter = top.table("filter");
   read_filter(filter, fo);
   if (fo.filter == est::loop::Filter::ekf && !has_landmarks(s))
-    filter.fail(*filter.get("type"),
+    filter.fail_key("type",
                 "filter.type: the EKF needs landmarks, and a map_server map has none (world.landmarks or the office)");
 
   Section faults = top.table("faults");
@@ -509,7 +514,7 @@ ScenarioFile parse_scenario(const std::string& text, const std::string& source,
   Section top(out.source, &doc, "", {1, 1});
   out.description = top.text("description", "");
   const bool has_team = doc.contains("team"), has_exercise = doc.contains("exercise");
-  if (has_team && has_exercise) top.fail(*doc.get("exercise"), "a scenario has [team] or [exercise], not both");
+  if (has_team && has_exercise) top.fail_key("exercise", "a scenario has [team] or [exercise], not both");
   if (has_team) read_team(top, out);
   else if (has_exercise) read_exercise(top, out);
   else read_simulate(top, out);

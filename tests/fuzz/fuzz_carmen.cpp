@@ -2,9 +2,6 @@
 // PARAM lines, plain or gzipped), through LineReader's zlib path by a memfd (no file on disk; the importer opens
 // paths). The first byte picks --on-error skip or refuse. Bad lines are skipped with FILE:LINE or refused naming
 // them; a file with no scan is refused naming the file. Every parsed scan has finite, ordered stamps and its line.
-#include <sys/mman.h>
-#include <unistd.h>
-
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -14,15 +11,14 @@
 
 #include "data/carmen.hpp"
 #include "data/import_report.hpp"
+#include "memfd_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
   const auto mode = (data[0] & 1) != 0 ? sim::data::OnError::refuse : sim::data::OnError::skip;
   static std::FILE* quiet = std::fopen("/dev/null", "w");
-  const int fd = memfd_create("carmen", 0);
-  if (fd < 0) __builtin_trap();
-  if (write(fd, data + 1, size - 1) != static_cast<ssize_t>(size - 1)) __builtin_trap();
-  const std::string path = "/proc/self/fd/" + std::to_string(fd);
+  const fuzz::MemFile file("carmen", data + 1, size - 1);
+  const std::string path = file.path();
   sim::data::ImportReport report(mode, quiet, 0);
   sim::data::CarmenImportOptions options;
   try {
@@ -32,6 +28,5 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const std::runtime_error& e) {
     if (std::string(e.what()).rfind(path, 0) != 0) __builtin_trap();
   }
-  close(fd);
   return 0;
 }
