@@ -44,6 +44,14 @@ std::size_t play_landmarks(const std::string& log_path, const std::string& url, 
   return n;
 }
 
+// How many messages of `channel` the log holds.
+std::size_t count_messages(const std::string& log_path, const std::string& channel) {
+  ::lcm::LogFile log(log_path, "r");
+  std::size_t n = 0;
+  while (const ::lcm::LogEvent* e = log.good() ? log.readNextEvent() : nullptr) if (e->channel == channel) ++n;
+  return n;
+}
+
 // The run log's first event time (its first message's stamp, to the microsecond of the log).
 std::int64_t first_event_ns(const std::string& log_path) {
   ::lcm::LogFile log(log_path, "r");
@@ -64,11 +72,11 @@ std::vector<est_lcm::pose_estimate_t> estimates_in(const std::string& log_path) 
   return out;
 }
 
-// A live estimate and the lockstep estimate of the input it came from: the lockstep's latest stamp at or before the
-// live stamp mapped back onto the run's time (a receive time is never before its sending), the k-th of a stamp with
-// the k-th, within `window_ns` (an input later than that is left unpaired: a late frame, not another input). The
-// offsets: how much later the live estimates are stamped than the lockstep's they pair with (the loop steps on a
-// grid from its first input, so this is mostly that input's receive time less its sensor stamp).
+// A live estimate and the lockstep estimate of the input it came from, in order: both runs give one estimate per
+// input, in the inputs' order, the live one stamped later by the input's delay on the way (its receive time, never
+// before its sending). So, walking both in order: lockstep estimates more than `window_ns` older than the live one
+// had no live counterpart (an input lost), a live one older than the next lockstep one is one of its own (a step the
+// live loop made between inputs), else the two pair.
 struct InputPairing {
   std::size_t matched = 0, same_pose = 0;
   double worst_m = 0.0, worst_rad = 0.0, rms_m = 0.0;
@@ -78,23 +86,17 @@ struct InputPairing {
 InputPairing pair_by_input(const std::vector<est_lcm::pose_estimate_t>& lockstep,
                            const std::vector<est_lcm::pose_estimate_t>& live, std::int64_t offset_ns,
                            std::int64_t window_ns) {
-  std::map<std::int64_t, std::vector<const est_lcm::pose_estimate_t*>> by;
-  for (const est_lcm::pose_estimate_t& e : lockstep) by[e.stamp_ns].push_back(&e);
-  std::map<std::int64_t, std::size_t> used;
   InputPairing p;
   std::vector<double> offset_ms;
   double sum_sq = 0.0;
+  std::size_t j = 0;
   for (const est_lcm::pose_estimate_t& l : live) {
     p.paired_stamp.push_back(-1);
     const std::int64_t t = l.stamp_ns - offset_ns;
-    auto it = by.upper_bound(t);
-    if (it == by.begin()) continue;
-    --it;
-    if (t - it->first > window_ns) continue;
-    std::size_t& k = used[it->first];
-    if (k >= it->second.size()) continue;
-    const est_lcm::pose_estimate_t& r = *it->second[k++];
-    p.paired_stamp.back() = it->first;
+    while (j < lockstep.size() && lockstep[j].stamp_ns < t - window_ns) ++j;
+    if (j == lockstep.size() || lockstep[j].stamp_ns > t) continue;
+    const est_lcm::pose_estimate_t& r = lockstep[j++];
+    p.paired_stamp.back() = r.stamp_ns;
     ++p.matched;
     if (std::memcmp(&l.x_m, &r.x_m, sizeof(float)) == 0 && std::memcmp(&l.y_m, &r.y_m, sizeof(float)) == 0 &&
         std::memcmp(&l.theta_rad, &r.theta_rad, sizeof(float)) == 0)
@@ -104,7 +106,7 @@ InputPairing pair_by_input(const std::vector<est_lcm::pose_estimate_t>& lockstep
     p.worst_m = std::max(p.worst_m, d);
     p.worst_rad = std::max(p.worst_rad, std::fabs(std::remainder(static_cast<double>(l.theta_rad - r.theta_rad),
                                                                  6.283185307179586)));
-    offset_ms.push_back(static_cast<double>(t - it->first) * 1.0e-6);
+    offset_ms.push_back(static_cast<double>(t - r.stamp_ns) * 1.0e-6);
   }
   if (p.matched > 0) p.rms_m = std::sqrt(sum_sq / static_cast<double>(p.matched));
   if (!offset_ms.empty()) {
@@ -163,15 +165,22 @@ LiveResult run_live_robot_can(const SimResult& lockstep, const ScenarioConfig& s
   const int player_exit = player.wait(sc.duration_s + 60.0);
   const double played_s = std::chrono::duration<double>(Clock::now() - t0).count() - 0.5;
   // A node slower than real time (an emulated machine) has frames queued in its socket still: wait until it has
-  // published the estimate of the run's last input (up to 30 s), then the drain.
+  // published the estimate of the run's last input, or published nothing new for 2 s (up to 30 s), then the drain.
   const std::int64_t last_ns = lockstep.estimates.empty() ? 0 : lockstep.estimates.back().stamp_ns;
   const auto give_up = Clock::now() + std::chrono::seconds(30);
   const auto behind = [&] {
     const std::int64_t latest = heard.latest_stamp_ns();
     return latest == INT64_MIN || latest - offset_ns < last_ns;
   };
-  while (behind() && Clock::now() < give_up)
+  std::size_t count = heard.heard();
+  auto changed = Clock::now();
+  while (behind() && Clock::now() < give_up && Clock::now() - changed < std::chrono::seconds(2)) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (heard.heard() != count) {
+      count = heard.heard();
+      changed = Clock::now();
+    }
+  }
   const double caught_up_s = std::chrono::duration<double>(Clock::now() - t0).count() - 0.5 - played_s;
   std::this_thread::sleep_for(std::chrono::duration<double>(o.drain_s));
   result.node_exit = node.stop();
@@ -186,8 +195,8 @@ LiveResult run_live_robot_can(const SimResult& lockstep, const ScenarioConfig& s
   write_estimates(dir / "live.lcmlog", heard.estimates());
   std::vector<est_lcm::pose_estimate_t> ref;
   for (const hal::Estimate& e : lockstep.estimates) ref.push_back(hal::lcm::to_lcm(e));
-  // 10 ms: an encoder period; a frame later than that is counted unpaired rather than taken for the next input's.
-  const InputPairing p = pair_by_input(ref, live, offset_ns, 10000000);
+  // A delay of up to 200 ms on the way (a stalled sender, an emulated machine) still pairs.
+  const InputPairing p = pair_by_input(ref, live, offset_ns, 200000000);
 
   // The live estimates scored as the lockstep's: each at the time of the input it came from.
   std::vector<OutputRow> rows;
@@ -225,11 +234,21 @@ LiveResult run_live_robot_can(const SimResult& lockstep, const ScenarioConfig& s
                               {"not_finite", "out_of_range", "time_backwards", "duplicate", "stale", "from_future",
                                "bad_geometry", "too_few_valid_beams"});
   const long long landmarks_taken = summary_value(summary, "  inputs:", "landmark");
+  // A scan is 122 frames: one the reassembler could not complete (a frame late past its timeout under load, say) is
+  // rejected there, with its reason on the node's rejects.can_scan line.
+  const long long scans_sent = static_cast<long long>(count_messages(log, hal::lcm::Channels{}.range_scan));
+  const long long scans_completed = summary_value(summary, "  rejects.can_scan:", "completed");
+  const long long scans_lost = scans_sent - scans_completed;
+  const long long scan_rejects =
+      summary_total(summary, "  rejects.can_scan:",
+                    {"wrong_dlc", "orphan_frame", "sequence_gap", "truncated", "duplicate_frame", "interleaved",
+                     "extra_frame", "exceeds_capacity", "bad_header", "bad_checksum", "timeout"});
   result.inputs_published = static_cast<std::size_t>(std::max(0LL, sent)) + landmarks;
   result.estimates = live.size();
   result.matched = p.matched;
   result.identical = p.same_pose;
-  result.inputs_all_accounted = sent >= 0 && rx_frames == frames && taken + rejected == sent &&
+  result.inputs_all_accounted = sent >= 0 && rx_frames == frames && taken + rejected + scans_lost == sent &&
+                                (scans_lost == 0 || scan_rejects > 0) &&
                                 landmarks_taken == static_cast<long long>(landmarks);
 
   const SimMetrics& km = lockstep.metrics;
@@ -252,17 +271,18 @@ LiveResult run_live_robot_can(const SimResult& lockstep, const ScenarioConfig& s
       metric(lm.rmse_position_all_m, "%.3f", " m"));
   row("inputs rejected (counted)", std::to_string(lockstep_rejects), std::to_string(rejected));
   std::printf("  live estimates paired with the lockstep's by their input: %zu of %zu (%zu with the same pose to the "
-              "bit); difference RMS %.4f m, worst %.4f m, %.4f rad; live stamps later by median %.3f ms, "
-              "worst %.3f ms\n",
+              "bit); difference RMS %.4f m, worst %.4f m, %.4f rad; live stamps later (the input's delay) by "
+              "median %.3f ms, worst %.3f ms\n",
               p.matched, lockstep.estimates.size(), p.same_pose, p.rms_m, p.worst_m, p.worst_rad, p.offset_median_ms,
               p.offset_worst_ms);
   std::printf("  lockstep replay of the node's recorded inputs: %zu of the %zu estimates the node published identical "
               "to the bit (%zu replayed, exit status %d); %zu of them heard on LCM, %zu identical\n",
               identical, wrote.size(), again.size(), replay_rc, live.size(), over_lcm.identical);
   std::printf("  inputs: %lld messages sent as %lld CAN frames, %lld frames received; %lld handed to the loop, %lld "
-              "rejected with a reason (%s); %zu landmark sightings on LCM, %lld taken\n",
-              sent, frames, rx_frames, taken, rejected, result.inputs_all_accounted ? "every one accounted for" : "SOME LOST",
-              landmarks, landmarks_taken);
+              "rejected by the HAL with a reason, %lld scans left incomplete by the reassembler (%lld counted "
+              "rejects) (%s); %zu landmark sightings on LCM, %lld taken\n",
+              sent, frames, rx_frames, taken, rejected, scans_lost, scan_rejects,
+              result.inputs_all_accounted ? "every one accounted for" : "SOME LOST", landmarks, landmarks_taken);
   std::printf("  estimator_node: exit status %d; its summary in %s, its estimates in %s\n", result.node_exit,
               (dir / "node.txt").string().c_str(), (dir / "live.lcmlog").string().c_str());
 
@@ -291,7 +311,9 @@ LiveResult run_live_robot_can(const SimResult& lockstep, const ScenarioConfig& s
       {"all_identical", !wrote.empty() && identical == wrote.size() && again.size() == wrote.size()}};
   j["heard_on_lcm"] = {{"estimates", live.size()}, {"paired", over_lcm.matched}, {"identical", over_lcm.identical}};
   j["inputs"] = {{"messages_sent", sent},   {"frames_sent", frames},         {"frames_received", rx_frames},
-                 {"taken", taken},          {"rejected", rejected},          {"landmarks_on_lcm", landmarks},
+                 {"taken", taken},          {"rejected", rejected},          {"scans_sent", scans_sent},
+                 {"scans_incomplete", scans_lost}, {"scan_reassembly_rejects", scan_rejects},
+                 {"landmarks_on_lcm", landmarks},
                  {"landmarks_taken", landmarks_taken}, {"all_accounted", result.inputs_all_accounted}};
   j["nodes"] = nlohmann::json::array({{{"exit_status", result.node_exit}, {"summary", (dir / "node.txt").string()}}});
   std::ofstream(dir / "live.json") << j.dump(2) << "\n";

@@ -174,6 +174,8 @@ class Collector {
   }
   // The latest stamp of an estimate heard so far (any channel; INT64_MIN before the first), while it runs.
   std::int64_t latest_stamp_ns() const { return latest_; }
+  // How many estimates it heard so far, while it runs.
+  std::size_t heard() const { return heard_; }
   // By channel, in the order heard (after finish()).
   const std::map<std::string, std::vector<est_lcm::pose_estimate_t>>& estimates() const { return by_channel_; }
 
@@ -184,10 +186,12 @@ class Collector {
     if (m.decode(b->data, 0, n) != n) return;
     by_channel_[channel].push_back(m);
     if (m.stamp_ns > latest_) latest_ = m.stamp_ns;
+    ++heard_;
   }
   ::lcm::LCM lcm_;
   std::atomic<bool> done_{false};
   std::atomic<std::int64_t> latest_{INT64_MIN};
+  std::atomic<std::size_t> heard_{0};
   std::thread thread_;
   std::map<std::string, std::vector<est_lcm::pose_estimate_t>> by_channel_;
 };
