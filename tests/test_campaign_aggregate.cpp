@@ -112,3 +112,84 @@ TEST_CASE("a campaign folder: metrics over the succeeded seeds, each failed or m
   CHECK(a["per_seed"]["1"]["accuracy.rmse_position_m"] == 0.1);
   CHECK(a["per_seed"].contains("3") == false);
 }
+
+TEST_CASE("a --set with several values is a grid axis; commas inside a TOML array or string are the value's",
+          "[campaign]") {
+  using sim::campaign::split_values;
+  CHECK(split_values("256") == std::vector<std::string>{"256"});
+  CHECK(split_values("100,200,300") == std::vector<std::string>{"100", "200", "300"});
+  CHECK(split_values("[1, 2],[3,4]") == std::vector<std::string>{"[1, 2]", "[3,4]"});
+  CHECK(split_values("'a,b',\"c,\\\"d\",{x = 1, y = 2}") ==
+        std::vector<std::string>{"'a,b'", "\"c,\\\"d\"", "{x = 1, y = 2}"});
+  sim::campaign::Campaign c;
+  sim::campaign::add_set(c, "filter.particles=100,200");
+  sim::campaign::add_set(c, "duration_s=3");
+  sim::campaign::add_set(c, "sensors.scan.range_sigma_m=0.01,0.02,0.05");
+  CHECK(c.sets == std::vector<std::string>{"duration_s=3"});
+  REQUIRE(c.grid.size() == 2);
+  CHECK_THROWS_WITH(sim::campaign::add_set(c, "filter.particles=300"), Catch::Contains("given twice"));
+  CHECK_THROWS_WITH(sim::campaign::add_set(c, "duration_s=1,2"), Catch::Contains("given twice"));
+  CHECK_THROWS_WITH(sim::campaign::add_set(c, "filter.type=mcl,"), Catch::Contains("an empty value"));
+  // The cartesian product, the first axis varying slowest; each a folder of its own.
+  const auto k = c.combinations();
+  REQUIRE(k.size() == 6);
+  CHECK(k[0].sets == std::vector<std::string>{"filter.particles=100", "sensors.scan.range_sigma_m=0.01"});
+  CHECK(k[2].sets == std::vector<std::string>{"filter.particles=100", "sensors.scan.range_sigma_m=0.05"});
+  CHECK(k[3].sets == std::vector<std::string>{"filter.particles=200", "sensors.scan.range_sigma_m=0.01"});
+  CHECK(k[5].name == "5-filter.particles=200,sensors.scan.range_sigma_m=0.05");
+  sim::campaign::Campaign q;
+  sim::campaign::add_set(q, "world.map='a/b c',\"a_b_c\"");
+  CHECK(q.combinations()[0].name == "0-world.map=_a_b_c_");
+  CHECK(q.combinations()[1].name == "1-world.map=_a_b_c_");
+  // Without a grid: one unnamed combination, the seeds in the campaign's own folder.
+  CHECK(sim::campaign::Campaign{}.combinations().size() == 1);
+  CHECK(sim::campaign::combination_dir("/x", sim::campaign::Campaign{}.combinations()[0]) == "/x");
+}
+
+TEST_CASE("a grid's folder: statistics per combination, failures named with their combination", "[campaign]") {
+  namespace fs = std::filesystem;
+  est::test::ScratchDir d("campaign_aggregate_grid");
+  sim::campaign::Campaign c;
+  c.scenario = "kidnapped";
+  c.first_seed = 1;
+  c.last_seed = 2;
+  c.sim_host = "/bin/false";
+  sim::campaign::add_set(c, "filter.particles=100,200");
+  sim::campaign::write_campaign_json(c, d.path);
+  const auto k = c.combinations();
+  REQUIRE(k.size() == 2);
+  const auto seed = [&](std::size_t combo, int n, const std::string& status, double rmse) {
+    const fs::path s = sim::campaign::seed_dir(sim::campaign::combination_dir(d.path, k[combo]), static_cast<std::uint64_t>(n));
+    fs::create_directories(s);
+    std::ofstream(s / "run.log") << "run\n";
+    std::ofstream(s / "exit_status") << status << "\n";
+    std::ofstream(s / "metrics.json") << R"({"accuracy": {"rmse_position_m": )" << rmse << "}}";
+  };
+  seed(0, 1, "0", 0.4);
+  seed(0, 2, "0", 0.2);
+  seed(1, 1, "0", 0.05);
+  seed(1, 2, "2", 0.0);
+  const nlohmann::json a = nlohmann::json::parse(sim::campaign::aggregate_campaign(d.path, false).dump());
+  CHECK(a["seeds"]["total"] == 4);
+  CHECK(a["seeds"]["succeeded"] == 3);
+  REQUIRE(a["failures"].size() == 1);
+  CHECK(a["failures"][0]["combination"] == k[1].name);
+  CHECK(a["failures"][0]["seed"] == 2);
+  CHECK(a["failures"][0]["log"] == (d.path / k[1].name / "seed-2" / "run.log").string());
+  REQUIRE(a["combinations"].size() == 2);
+  const nlohmann::json &c0 = a["combinations"][0], &c1 = a["combinations"][1];
+  CHECK(c0["set"] == nlohmann::json{{"filter.particles", "100"}});
+  CHECK(c1["set"] == nlohmann::json{{"filter.particles", "200"}});
+  CHECK(c0["metrics"]["accuracy.rmse_position_m"]["mean"].get<double>() == Approx(0.3));
+  CHECK(c0["metrics"]["accuracy.rmse_position_m"]["worst"]["seed"] == 1);
+  CHECK(c1["metrics"]["accuracy.rmse_position_m"]["seeds"] == 1);
+  CHECK(c1["metrics"]["accuracy.rmse_position_m"]["mean"].get<double>() == Approx(0.05));
+  CHECK(c1["seeds"]["failed"] == 1);
+  CHECK(a.contains("metrics") == false);  // no statistics over different parameters
+  // campaign.json round-trips the grid.
+  const sim::campaign::Campaign r = sim::campaign::read_campaign_json(d.path);
+  REQUIRE(r.grid.size() == 1);
+  CHECK(r.grid[0].values == std::vector<std::string>{"100", "200"});
+  CHECK(sim::campaign::aggregate_summary(sim::campaign::aggregate_campaign(d.path, false))
+            .find("FAILED " + k[1].name + " seed 2: exit status 2") != std::string::npos);
+}

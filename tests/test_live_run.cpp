@@ -110,3 +110,15 @@ TEST_CASE("sim_host run coop-slam-team --live: one team node per robot over udpm
     CHECK(r.at("exit_status") == 0);
   }
 }
+
+TEST_CASE("sim_host run --can goes with --live, and a team's live run has no CAN frames", "[live][process]") {
+  const est::test::ScratchDir dir("live_run_can_refused");
+  CHECK(run("kidnapped --duration 1 --no-plots --quiet --out '" + (dir.path / "a").string() + "' --can vcan0",
+            dir.path / "a.txt") != 0);
+  CHECK(slurp(dir.path / "a.txt").find("--can and --node-args go with --live") != std::string::npos);
+  CHECK(run("coop-slam-team --duration 1 --no-plots --quiet --out '" + (dir.path / "b").string() +
+                "' --live --can vcan0 --lcm 'udpm://239.255.76.67:7667?ttl=0'",
+            dir.path / "b.txt") != 0);
+  CHECK(slurp(dir.path / "b.txt").find("a team's messages have no CAN frames") != std::string::npos);
+  CHECK(!fs::exists(dir.path / "b" / "live" / "node_0.txt"));  // no node started
+}

@@ -126,3 +126,65 @@ TEST_CASE("the emitted Slurm job array, run task by task, aggregates to the loca
   CHECK(a["per_seed"] == b["per_seed"]);
   CHECK(a["metrics"] == b["metrics"]);
 }
+
+TEST_CASE("a 2-value grid x 2 seeds runs 4 processes, each equal to its own sim_host run, grouped per value",
+          "[sweep]") {
+  ScratchDir d("sim_host_sweep_grid");
+  const fs::path out = d.path / "sweep";
+  const std::string grid = "kidnapped --duration 2 --set filter.particles=200,400";
+  REQUIRE(sim_host("sweep " + grid + " --seeds 5..6 --jobs 2 --out '" + out.string() + "'", d.path / "log") == 0);
+  const nlohmann::json a = read_json(out / "aggregate.json");
+  CHECK(a["seeds"]["total"] == 4);
+  CHECK(a["seeds"]["succeeded"] == 4);
+  CHECK(fs::file_size(out / "aggregate.png") > 0);
+  REQUIRE(a["combinations"].size() == 2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const nlohmann::json& k = a["combinations"][i];
+    const std::string particles = i == 0 ? "200" : "400";
+    CHECK(k["set"]["filter.particles"] == particles);
+    CHECK(k["seeds"]["total"] == 2);
+    REQUIRE(k["per_seed"].size() == 2);
+    for (int seed = 5; seed <= 6; ++seed) {
+      INFO("particles " << particles << ", seed " << seed);
+      const fs::path alone = d.path / ("alone-" + particles + "-" + std::to_string(seed));
+      REQUIRE(sim_host("run kidnapped --duration 2 --set filter.particles=" + particles + " --seed " +
+                           std::to_string(seed) + " --quiet --no-plots --out '" + alone.string() + "'",
+                       d.path / "run.log") == 0);
+      const nlohmann::json own = sim::campaign::flatten_metrics(read_json(alone / "metrics.json"));
+      CHECK(k["per_seed"][std::to_string(seed)] == own);
+      // The run's own files are the same bits too.
+      CHECK(slurp(fs::path(k["dir"].get<std::string>()) / ("seed-" + std::to_string(seed)) / "trajectory.csv") ==
+            slurp(alone / "trajectory.csv"));
+      // The statistics of a combination are over its own seeds only.
+      const nlohmann::json& m = k["metrics"]["loop.outputs"];
+      CHECK(m["seeds"] == 2);
+    }
+  }
+  // Different particle counts, different runs (MCL's particle count changes its draws).
+  CHECK(a["combinations"][0]["per_seed"]["5"] != a["combinations"][1]["per_seed"]["5"]);
+  // The emitted job array runs the same 4 runs, task by task, and aggregates to the same values.
+  const fs::path slurm = d.path / "slurm";
+  REQUIRE(sim_host("sweep " + grid + " --seeds 5..6 --emit-slurm '" + slurm.string() + "'", d.path / "log") == 0);
+  const std::string script = slurp(slurm / "campaign.sbatch");
+  CHECK(script.find("#SBATCH --array=0-3\n") != std::string::npos);
+  for (int task = 0; task < 4; ++task)
+    REQUIRE(shell("SLURM_ARRAY_TASK_ID=" + std::to_string(task) + " sh '" + (slurm / "campaign.sbatch").string() + "'",
+                  d.path / "task.log") == 0);
+  REQUIRE(sim_host("aggregate --no-plots '" + slurm.string() + "'", d.path / "log") == 0);
+  const nlohmann::json b = read_json(slurm / "aggregate.json");
+  REQUIRE(b["combinations"].size() == 2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    CHECK(b["combinations"][i]["per_seed"] == a["combinations"][i]["per_seed"]);
+    CHECK(b["combinations"][i]["metrics"] == a["combinations"][i]["metrics"]);
+  }
+}
+
+TEST_CASE("a grid with a value the scenario refuses runs nothing", "[sweep]") {
+  ScratchDir d("sim_host_sweep_grid_refused");
+  const fs::path out = d.path / "sweep";
+  CHECK(sim_host("sweep kidnapped --seeds 1..2 --set filter.particles=300,many --out '" + out.string() + "'",
+                 d.path / "log") == 1);
+  CHECK(slurp(d.path / "log").find("--set filter.particles=many: filter.particles: expected an integer") !=
+        std::string::npos);
+  CHECK(!fs::exists(out));
+}

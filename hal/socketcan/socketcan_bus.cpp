@@ -78,6 +78,10 @@ bool SocketCanBus::open() {
       ::setsockopt(fd_, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on) < 0 ||
       ::setsockopt(fd_, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on) < 0)
     return fail(std::string("setsockopt: ") + std::strerror(errno));
+  if (config_.receive_buffer_bytes > 0 &&
+      ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUFFORCE, &config_.receive_buffer_bytes, sizeof(int)) < 0 &&
+      ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &config_.receive_buffer_bytes, sizeof(int)) < 0)
+    return fail(std::string("SO_RCVBUF: ") + std::strerror(errno));
 
   sockaddr_can addr{};
   addr.can_family = AF_CAN;

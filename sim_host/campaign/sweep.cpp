@@ -23,12 +23,12 @@ namespace {
 
 // Starts one seed's run with stdin from /dev/null and stdout and stderr into its run.log; -1 when it cannot start
 // (then run.log says why).
-pid_t start_seed(const Campaign& c, std::uint64_t seed, const fs::path& dir) {
-  const fs::path out = seed_dir(dir, seed);
+pid_t start_seed(const Campaign& c, const Combination& k, std::uint64_t seed, const fs::path& dir) {
+  const fs::path out = seed_dir(combination_dir(dir, k), seed);
   fs::create_directories(out);
   fs::remove(out / "exit_status");
   const std::string log = (out / "run.log").string();
-  const std::vector<std::string> cmd = seed_command(c, seed, dir);
+  const std::vector<std::string> cmd = seed_command(c, k, seed, dir);
   std::vector<char*> argv;
   for (const std::string& a : cmd) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
@@ -54,8 +54,8 @@ int exit_code(int status) {
   return 255;
 }
 
-void finish_seed(std::uint64_t seed, const fs::path& dir, int code, SweepCounts& n) {
-  std::ofstream(seed_dir(dir, seed) / "exit_status") << code << "\n";
+void finish_seed(const Combination& k, std::uint64_t seed, const fs::path& dir, int code, SweepCounts& n) {
+  std::ofstream(seed_dir(combination_dir(dir, k), seed) / "exit_status") << code << "\n";
   ++n.done;
   if (code != 0) ++n.failed;
 }
@@ -64,20 +64,29 @@ void finish_seed(std::uint64_t seed, const fs::path& dir, int code, SweepCounts&
 
 SweepCounts run_sweep(const Campaign& c, const fs::path& dir, std::size_t jobs, bool quiet) {
   if (jobs == 0) throw std::invalid_argument("--jobs must be at least 1");
-  Progress progress("sweep", static_cast<double>(c.seed_count()), quiet);
+  const std::vector<Combination> combinations = c.combinations();
+  Progress progress("sweep", static_cast<double>(combinations.size() * c.seed_count()), quiet);
   SweepCounts n;
-  std::map<pid_t, std::uint64_t> running;
+  struct Run {
+    const Combination* k;
+    std::uint64_t seed;
+  };
+  std::map<pid_t, Run> running;
+  std::size_t next_k = 0;
   std::uint64_t next = c.first_seed;
   bool more = true;
   const auto show = [&] { progress.update(static_cast<double>(n.done), std::to_string(n.failed) + " failed"); };
   while (more || !running.empty()) {
     while (more && running.size() < jobs) {
-      const std::uint64_t seed = next;
-      more = seed != c.last_seed;
-      if (more) ++next;
-      const pid_t pid = start_seed(c, seed, dir);
-      if (pid < 0) finish_seed(seed, dir, 127, n);  // as a shell says of a command it cannot run
-      else running[pid] = seed;
+      const Run r{&combinations[next_k], next};
+      if (next != c.last_seed) ++next;
+      else {
+        next = c.first_seed;
+        more = ++next_k < combinations.size();
+      }
+      const pid_t pid = start_seed(c, *r.k, r.seed, dir);
+      if (pid < 0) finish_seed(*r.k, r.seed, dir, 127, n);  // as a shell says of a command it cannot run
+      else running[pid] = r;
     }
     show();
     if (running.empty()) continue;
@@ -89,7 +98,7 @@ SweepCounts run_sweep(const Campaign& c, const fs::path& dir, std::size_t jobs, 
     }
     const auto it = running.find(pid);
     if (it == running.end()) continue;
-    finish_seed(it->second, dir, exit_code(status), n);
+    finish_seed(*it->second.k, it->second.seed, dir, exit_code(status), n);
     running.erase(it);
   }
   show();

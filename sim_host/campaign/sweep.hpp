@@ -1,6 +1,7 @@
 #pragma once
-// The local sweep: each seed of a campaign (campaign.hpp) run as its own `sim_host run` process, `jobs` at a time
-// (posix_spawn), its stdout and stderr in DIR/seed-N/run.log and its exit code in DIR/seed-N/exit_status; progress
+// The local sweep: each seed of a campaign (campaign.hpp), of each combination of its grid, run as its own
+// `sim_host run` process, `jobs` at a time (posix_spawn), its stdout and stderr in [COMBINATION/]seed-N/run.log and
+// its exit code in [COMBINATION/]seed-N/exit_status; progress
 // (done / total, failures, ETA) on a terminal, nothing off one. Host only (throws).
 #include <cstddef>
 #include <filesystem>

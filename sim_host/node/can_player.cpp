@@ -3,7 +3,9 @@
 // interface (--can), paced by the messages' stamp_ns (--speed 1 is real time, 0 as fast as the bus takes them; the
 // receiver stamps them with its own receive time, as a real bus would), or into a candump log (--write), each
 // frame stamped with its message's stamp_ns, for estimator_node --replay-can and the board image. Encoder counters
-// are cut to the bus's 16 bits; landmark sightings have no frame and are skipped (counted).
+// are cut to the bus's 16 bits; landmark sightings have no frame and are skipped (counted). --clock-offset NS sends
+// each message at CLOCK_MONOTONIC stamp_ns + NS instead, so a caller that chose NS maps the receiver's stamps back
+// onto the log's time exactly (sim_host run --live --can).
 #include <poll.h>
 #include <time.h>
 
@@ -62,7 +64,8 @@ struct Output {
 // Receives each sensor message of the log as its raw sample and sends its frames.
 class Player final : public hal::PortImplementation<Player, hal::SensorPort> {
  public:
-  Player(Output& out, double speed, double start_delay_s) : out_(out), speed_(speed), delay_s_(start_delay_s) {}
+  Player(Output& out, double speed, double start_delay_s, const TimeNs* clock_offset_ns)
+      : out_(out), speed_(speed), delay_s_(start_delay_s), offset_ns_(clock_offset_ns) {}
 
   template <typename Raw>
   void handle(const Raw& s) {
@@ -81,6 +84,10 @@ class Player final : public hal::PortImplementation<Player, hal::SensorPort> {
  private:
   void pace(TimeNs stamp) {
     if (out_.file != nullptr) return;
+    if (offset_ns_ != nullptr) {
+      sleep_until(stamp + *offset_ns_);
+      return;
+    }
     if (!started_) {
       started_ = true;
       first_stamp_ = stamp;
@@ -91,6 +98,7 @@ class Player final : public hal::PortImplementation<Player, hal::SensorPort> {
 
   Output& out_;
   double speed_, delay_s_;
+  const TimeNs* offset_ns_;
   hal::can::SampleFrames encoder_;
   std::vector<hal::can::CanFrame> frames_ =
       std::vector<hal::can::CanFrame>(hal::can::scan_frame_count(hal::can::kMaxScanRanges));
@@ -113,6 +121,11 @@ int main(int argc, char** argv) {
   app.add_option("--speed", speed, "pacing by the messages' stamp_ns: 1 real time, 2 twice as fast, 0 no pacing")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_option("--start-delay", start_delay_s, "wait this long before the first frame (s)")->capture_default_str();
+  TimeNs clock_offset_ns = 0;
+  CLI::Option* clock_offset =
+      app.add_option("--clock-offset", clock_offset_ns,
+                     "send each message at CLOCK_MONOTONIC stamp_ns + NS (real time on a known offset; instead of "
+                     "--speed and --start-delay)");
   app.add_option("--wheel-counter-bits", ic.wheel_counter_bits, "width of the log's encoder counters")->capture_default_str();
   app.add_option("--ch-wheel-ticks", ic.channels.wheel_ticks, "LCM channel of the encoder ticks")->capture_default_str();
   app.add_option("--ch-steering", ic.channels.steering, "LCM channel of the steering")->capture_default_str();
@@ -145,7 +158,11 @@ int main(int argc, char** argv) {
     }
     out.bus = bus.get();
   }
-  Player player(out, speed, start_delay_s);
+  if (clock_offset->count() > 0 && !write_path.empty()) {
+    std::fprintf(stderr, "can_player: --clock-offset paces a bus, not --write\n");
+    return 2;
+  }
+  Player player(out, speed, start_delay_s, clock_offset->count() > 0 ? &clock_offset_ns : nullptr);
   ic.max_ranges = hal::can::kMaxScanRanges;
   ::lcm::LCM memq("memq://");
   hal::lcm::LcmInputs inputs(memq, ic, player);

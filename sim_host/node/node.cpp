@@ -465,6 +465,7 @@ struct Node::Impl {
       hal::socketcan::Config bc;
       bc.interface = c.can_interface;
       bc.receive_ids.assign(std::begin(hal::can::dbc::kInputIds), std::end(hal::can::dbc::kInputIds));
+      bc.receive_buffer_bytes = c.can_receive_buffer_bytes;
       bus = std::make_unique<hal::socketcan::SocketCanBus>(bc);
       if (!bus->open())
         std::fprintf(stderr, "estimator_node: %s: %s (retrying)\n", c.can_interface.c_str(), bus->last_error().c_str());

@@ -77,6 +77,10 @@ void add_options(CLI::App& app, NodeConfig& c) {
                  "WHEEL_TICKS_EXT, STEERING, TWIST, ODOMETRY, SCAN_*); inputs are stamped with the kernel's receive "
                  "time")
       ->group(io);
+  app.add_option("--can-rcvbuf", c.can_receive_buffer_bytes,
+                 "the CAN socket's receive queue, bytes (~1 KB a frame; a 360-beam scan is 122 frames), so that a "
+                 "slow step does not cost frames (counted as rx_dropped); 0: the kernel's default")
+      ->capture_default_str()->check(CLI::NonNegativeNumber)->group(io);
   app.add_option("--lcm", c.lcm_url,
                  "LCM URL to read sensor messages from (est_lcm encoder_ticks_t, steering_t, twist_t, odometry_t, "
                  "range_scan_t, landmark_sighting_t; stamped by the sender, see --stamps) and to publish on")

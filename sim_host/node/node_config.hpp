@@ -16,6 +16,7 @@ inline constexpr std::int32_t kMaxLandmarks = 1024;  // landmarks in a landmark 
 struct NodeConfig {
   // Inputs and outputs.
   std::string can_interface;    // --can
+  int can_receive_buffer_bytes = 1 << 20;  // --can-rcvbuf
   std::string lcm_url;          // --lcm: inputs (and outputs unless --lcm-out)
   bool lcm_input = false;
   std::string lcm_out_url;      // --lcm-out: outputs; default --lcm's URL, else LCM's default (udpm)

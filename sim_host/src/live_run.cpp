@@ -1,249 +1,14 @@
 // `sim_host run --live` (sim/live_run.hpp): the run's streams in real time to estimator_node processes over LCM.
 #include "sim/live_run.hpp"
 
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <algorithm>
-#include <atomic>
-#include <chrono>
-#include <cmath>
-#include <cstdio>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <iostream>
-#include <lcm/lcm-cpp.hpp>
-#include <map>
-#include <mutex>
-#include <nlohmann/json.hpp>
-#include <sstream>
-#include <stdexcept>
-#include <thread>
-#include <vector>
-
-#include <est_lcm/ground_truth_t.hpp>
-#include <est_lcm/pose_estimate_t.hpp>
-
-#include "hal/lcm/lcm_convert.hpp"
-#include "node/lcm_log_io.hpp"
-#include "node/pacer.hpp"
+#include "live_support.hpp"
 
 namespace sim {
-namespace {
-
-namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::string node_exe(const LiveOptions& o) {
-  if (!o.node_exe.empty()) return o.node_exe;
-  std::error_code ec;
-  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  const fs::path beside = self.parent_path() / "estimator_node";
-  if (ec || !fs::exists(beside)) throw std::runtime_error("--live: no estimator_node beside sim_host (" + beside.string() + ")");
-  return beside.string();
-}
-
-// One estimator_node process, its stdout and stderr in `log`.
-class NodeProcess {
- public:
-  NodeProcess(const std::string& cmd, fs::path log) : log_(std::move(log)) {
-    pid_ = fork();
-    if (pid_ == 0) {
-      execl("/bin/sh", "sh", "-c", ("exec " + cmd + " >'" + log_.string() + "' 2>&1").c_str(),
-            static_cast<char*>(nullptr));
-      _exit(127);
-    }
-    if (pid_ < 0) throw std::runtime_error("--live: cannot start estimator_node");
-  }
-  ~NodeProcess() {
-    if (pid_ > 0) stop();
-  }
-  NodeProcess(const NodeProcess&) = delete;
-  NodeProcess& operator=(const NodeProcess&) = delete;
-
-  // Whether the node said `text` within `seconds` (false at once when it exited).
-  bool wait_for(const std::string& text, double seconds) {
-    const auto end = Clock::now() + std::chrono::duration<double>(seconds);
-    while (Clock::now() < end) {
-      if (read_text(log_).find(text) != std::string::npos) return true;
-      int status = 0;
-      if (waitpid(pid_, &status, WNOHANG) == pid_) {
-        exit_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        pid_ = -1;
-        return false;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return false;
-  }
-
-  // SIGINT (the node's summary and a clean exit), SIGKILL after 10 s; the exit status (-1: killed by a signal).
-  int stop() {
-    if (pid_ <= 0) return exit_;
-    kill(pid_, SIGINT);
-    int status = 0;
-    const auto end = Clock::now() + std::chrono::seconds(10);
-    while (waitpid(pid_, &status, WNOHANG) == 0) {
-      if (Clock::now() > end) {
-        kill(pid_, SIGKILL);
-        waitpid(pid_, &status, 0);
-        break;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    pid_ = -1;
-    exit_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return exit_;
-  }
-  const fs::path& log() const { return log_; }
-
- private:
-  fs::path log_;
-  pid_t pid_ = -1;
-  int exit_ = -1;
-};
-
-// The estimates the nodes publish (EST_POSE, EST_POSE_<a>), heard on a thread of their own while the streams play.
-class Collector {
- public:
-  explicit Collector(const std::string& url) : lcm_(url) {
-    if (!lcm_.good()) throw std::runtime_error("--live: LCM could not start on '" + url + "'");
-    lcm_.subscribe("EST_POSE(_[0-9]+)?", &Collector::on, this);
-    thread_ = std::thread([this] {
-      while (!done_) lcm_.handleTimeout(50);
-    });
-  }
-  ~Collector() { finish(); }
-  void finish() {
-    done_ = true;
-    if (thread_.joinable()) thread_.join();
-  }
-  // By channel, in the order heard (after finish()).
-  const std::map<std::string, std::vector<est_lcm::pose_estimate_t>>& estimates() const { return by_channel_; }
-
- private:
-  void on(const ::lcm::ReceiveBuffer* b, const std::string& channel) {
-    est_lcm::pose_estimate_t m;
-    const int n = static_cast<int>(b->data_size);
-    if (m.decode(b->data, 0, n) != n) return;
-    by_channel_[channel].push_back(m);
-  }
-  ::lcm::LCM lcm_;
-  std::atomic<bool> done_{false};
-  std::thread thread_;
-  std::map<std::string, std::vector<est_lcm::pose_estimate_t>> by_channel_;
-};
-
-// The log's events on the channels `play` takes, published on `url` at their times (real time), by channel.
-template <typename Play>
-std::map<std::string, std::size_t> play_log(const std::string& log_path, const std::string& url, Play play) {
-  ::lcm::LogFile log(log_path, "r");
-  if (!log.good()) throw std::runtime_error("--live: cannot read " + log_path);
-  ::lcm::LCM lcm(url);
-  if (!lcm.good()) throw std::runtime_error("--live: LCM could not start on '" + url + "'");
-  node::Pacer pacer(1.0);
-  std::map<std::string, std::size_t> published;
-  while (const ::lcm::LogEvent* e = log.readNextEvent()) {
-    if (!play(e->channel)) continue;
-    pacer.at(e->timestamp * 1000);
-    if (lcm.publish(e->channel, e->data, static_cast<unsigned>(e->datalen)) == 0) ++published[e->channel];
-  }
-  return published;
-}
-
-// The published estimates as a log (event times their stamps), for sim_host plot beside the run's log.
-void write_estimates(const fs::path& path, const std::map<std::string, std::vector<est_lcm::pose_estimate_t>>& by) {
-  node::LogWriter w(path.string());
-  for (const auto& [channel, list] : by)
-    for (const est_lcm::pose_estimate_t& m : list) w.write(channel, m.stamp_ns, m);
-}
-
-bool same_bits(const est_lcm::pose_estimate_t& a, const est_lcm::pose_estimate_t& b) {
-  return a.stamp_ns == b.stamp_ns && std::memcmp(&a.x_m, &b.x_m, sizeof(float)) == 0 &&
-         std::memcmp(&a.y_m, &b.y_m, sizeof(float)) == 0 &&
-         std::memcmp(&a.theta_rad, &b.theta_rad, sizeof(float)) == 0 &&
-         std::memcmp(a.covariance, b.covariance, sizeof(a.covariance)) == 0;
-}
-
-// Live estimates paired with the lockstep's of the same stamp (the k-th of a stamp with the k-th: a scan applied
-// right after a prediction gives two outputs at one time).
-struct Pairing {
-  std::size_t matched = 0, identical = 0;
-  double worst_m = 0.0, worst_rad = 0.0;
-};
-Pairing pair_by_stamp(const std::vector<est_lcm::pose_estimate_t>& lockstep,
-                      const std::vector<est_lcm::pose_estimate_t>& live) {
-  std::map<std::int64_t, std::vector<const est_lcm::pose_estimate_t*>> by;
-  for (const est_lcm::pose_estimate_t& e : lockstep) by[e.stamp_ns].push_back(&e);
-  std::map<std::int64_t, std::size_t> used;
-  Pairing p;
-  for (const est_lcm::pose_estimate_t& l : live) {
-    const auto it = by.find(l.stamp_ns);
-    if (it == by.end()) continue;
-    std::size_t& k = used[l.stamp_ns];
-    if (k >= it->second.size()) continue;
-    const est_lcm::pose_estimate_t& r = *it->second[k++];
-    ++p.matched;
-    if (same_bits(l, r)) ++p.identical;
-    p.worst_m = std::max(p.worst_m, std::hypot(static_cast<double>(l.x_m - r.x_m), static_cast<double>(l.y_m - r.y_m)));
-    p.worst_rad = std::max(p.worst_rad, std::fabs(std::remainder(static_cast<double>(l.theta_rad - r.theta_rad),
-                                                                 6.283185307179586)));
-  }
-  return p;
-}
-
-// `key=` on the node summary's line that starts with `line`; -1 when absent.
-long long summary_value(const std::string& summary, const std::string& line, const std::string& key) {
-  std::istringstream in(summary);
-  std::string l;
-  while (std::getline(in, l)) {
-    if (l.compare(0, line.size(), line) != 0) continue;
-    const std::size_t at = l.find(" " + key + "=");
-    if (at == std::string::npos) return -1;
-    return std::atoll(l.c_str() + at + key.size() + 2);
-  }
-  return -1;
-}
-
-std::string fmt(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
-
-void row(const std::string& what, const std::string& lockstep, const std::string& live) {
-  std::printf("  %-38s %14s %14s\n", what.c_str(), lockstep.c_str(), live.c_str());
-}
-
-std::string metric(double v, const char* f, const char* unit) { return v < 0.0 ? "-" : fmt(f, v) + unit; }
-
-nlohmann::json metrics_of(const SimMetrics& m, std::size_t estimates) {
-  nlohmann::json j;
-  j["estimates"] = estimates;
-  j["rmse_position_m"] = m.rmse_position_m;
-  j["max_position_error_m"] = m.max_position_error_m;
-  j["rmse_heading_deg"] = m.rmse_heading_deg;
-  j["rmse_position_all_m"] = m.rmse_position_all_m;
-  j["localized_time_s"] = m.localized_time_s;
-  j["phases"] = nlohmann::json::array();
-  for (const PhaseMetrics& p : m.phases)
-    j["phases"].push_back({{"name", p.name}, {"localized", p.localized}, {"time_to_localize_s", p.time_to_localize_s}});
-  return j;
-}
-
-}  // namespace
+using namespace live;
 
 LiveResult run_live_robot(const SimResult& lockstep, const ScenarioConfig& sc, const FilterOptions& fo,
                           const std::string& out, const LiveOptions& o) {
+  if (!o.can_interface.empty()) return run_live_robot_can(lockstep, sc, fo, out, o);
   const fs::path dir = fs::path(out) / "live";
   fs::create_directories(dir);
   const std::string log = (fs::path(out) / "run.lcmlog").string();
@@ -251,7 +16,7 @@ LiveResult run_live_robot(const SimResult& lockstep, const ScenarioConfig& sc, c
   std::string options = sidecar.at("estimator_node_options").get<std::string>();
   const std::string replay = "--replay " + log;
   if (options.compare(0, replay.size(), replay) != 0) throw std::runtime_error("--live: the sidecar is not this run's");
-  options = options.substr(replay.size());
+  options = with_node_args(options.substr(replay.size()), o.node_args);
 
   std::printf("live: the run again in real time (%.1f s): estimator_node on LCM %s\n", sc.duration_s,
               o.lcm_url.c_str());
@@ -339,7 +104,9 @@ LiveResult run_live_team(const std::string& out, const LiveOptions& o) {
   const nlohmann::json sidecar = nlohmann::json::parse(read_text(log + ".json"));
   if (!sidecar.contains("team_node_options"))
     throw std::invalid_argument("--live: no node runs this team (" + sidecar.value("scenario", std::string()) + ")");
-  const std::string options = sidecar.at("team_node_options").get<std::string>();
+  if (!o.can_interface.empty())
+    throw std::invalid_argument("--live --can: a team's messages have no CAN frames (estimator.dbc): use --lcm alone");
+  const std::string options = with_node_args(sidecar.at("team_node_options").get<std::string>(), o.node_args);
   const int robots = sidecar.at("robots").get<int>();
 
   // The lockstep run's truth and estimates, from its log.

@@ -32,7 +32,7 @@ void add_run_command(CLI::App& app) {
     std::uint64_t seed = 0;
     double duration_s = 0.0;
     bool quiet = false, no_plots = false, view_wait = false, live = false;
-    std::string lcm_url = "udpm://239.255.76.67:7667?ttl=0", node_exe;
+    std::string lcm_url = "udpm://239.255.76.67:7667?ttl=0", node_exe, can_interface, node_args;
     std::uint16_t view_port = 0;
     double view_speed = 1.0;
   };
@@ -66,6 +66,13 @@ void add_run_command(CLI::App& app) {
               "lockstep figures; OUT/live/ holds the nodes' summaries, their estimates and live.json");
   c->add_option("--lcm", o->lcm_url, "with --live: the LCM URL of the streams and the estimates")->capture_default_str();
   c->add_option("--node-exe", o->node_exe, "with --live: the estimator_node to run (default: beside sim_host)");
+  c->add_option("--can", o->can_interface,
+                "with --live (a single robot): the sensor streams as estimator.dbc CAN frames on this interface "
+                "(can_player beside sim_host; landmark sightings on LCM), the node reading the bus; its estimates "
+                "still come back on --lcm");
+  c->add_option("--node-args", o->node_args,
+                "with --live: options for every node in place of the run's options of the same names (e.g. wider "
+                "HAL limits on an emulated machine: '--max-age 2000')");
   c->callback([o, seed, duration]() {
     std::vector<ScenarioOverride> overrides;
     for (const std::string& kv : o->sets) overrides.push_back(parse_override(kv));
@@ -88,6 +95,10 @@ void add_run_command(CLI::App& app) {
       if (o->view_port != 0) throw CLI::ValidationError("--live", "a live run has no --view (the nodes take --view)");
       ro.live_lcm_url = o->lcm_url;
       ro.live.node_exe = o->node_exe;
+      ro.live.can_interface = o->can_interface;
+      ro.live.node_args = o->node_args;
+    } else if (!o->can_interface.empty() || !o->node_args.empty()) {
+      throw CLI::ValidationError("--can", "--can and --node-args go with --live");
     }
     run_scenario(f, ro);
   });

@@ -24,6 +24,9 @@ struct Config {
   TimeNs reconnect_interval_ns = 100 * kNsPerMs;
   bool receive_error_frames = true;
   bool receive_own_frames = false;             // CAN_RAW_RECV_OWN_MSGS
+  // The socket's receive queue, bytes (0: the kernel's default, rmem_default, ~200 frames): SO_RCVBUFFORCE where
+  // permitted (CAP_NET_ADMIN), else SO_RCVBUF (capped by net.core.rmem_max). A frame takes ~1 KB of it.
+  int receive_buffer_bytes = 0;
 };
 
 struct Counters {
