@@ -52,10 +52,11 @@ extern "C" void on_stop_signal(int sig) { g_stop_signal.store(sig); }
 // time of a stream played at S times real time).
 struct MonotonicClock final : hal::Clock {
   explicit MonotonicClock(double speed = 1.0) : speed_(speed), origin_ns_(hal::socketcan::monotonic_now_ns()) {}
-  TimeNs now_ns() override {
-    const TimeNs now = hal::socketcan::monotonic_now_ns();
-    if (speed_ == 1.0) return now;
-    return origin_ns_ + static_cast<TimeNs>(static_cast<double>(now - origin_ns_) * speed_);
+  TimeNs now_ns() override { return at(hal::socketcan::monotonic_now_ns()); }
+  // A time of the monotonic clock on this one.
+  TimeNs at(TimeNs monotonic_ns) const {
+    if (speed_ == 1.0) return monotonic_ns;
+    return origin_ns_ + static_cast<TimeNs>(static_cast<double>(monotonic_ns - origin_ns_) * speed_);
   }
 
  private:
@@ -532,10 +533,11 @@ struct Node::Impl {
       view_truth(raw.bytes.data(), raw.size);
       return true;
     }
-    lcm_in->publish(channel, raw.bytes.data(), static_cast<unsigned>(raw.size));
-    lcm_in->handle();
     const TimeNs wait = monotonic_wall_ns() - raw.receive_ns;
     if (wait > worst_queue_wait_ns) worst_queue_wait_ns = wait;
+    if (alignment) alignment->set_arrival_ns(monotonic.at(raw.receive_ns));
+    lcm_in->publish(channel, raw.bytes.data(), static_cast<unsigned>(raw.size));
+    lcm_in->handle();
     return true;
   }
   static TimeNs monotonic_wall_ns() { return hal::socketcan::monotonic_now_ns(); }

@@ -10,7 +10,7 @@ double seconds(TimeNs ns) { return static_cast<double>(ns) * 1.0e-9; }
 void StampAlignment::align(TimeNs stamp_ns, const std::string& channel) {
   aligned_ = true;
   first_channel_ = channel;
-  const TimeNs now = clock_.now_ns();
+  const TimeNs now = arrival_ns_ != 0 ? arrival_ns_ : clock_.now_ns();
   if (hal::SampleTiming(limits_).check(stamp_ns, now) == hal::Fault::none) {
     std::fprintf(say_, "estimator_node: sender stamps are on the node clock (first message on %s %.1f ms old): kept\n",
                  channel.c_str(), seconds(now - stamp_ns) * 1.0e3);
