@@ -578,6 +578,10 @@ struct Node::Impl {
       std::fprintf(f, "  rejects.%s:%s\n", name, reason_list<hal::Fault>(fc).c_str());
     });
     std::fprintf(f, "  rejects.loop_port:%s\n", reason_list<hal::LoopPortReject>(pipeline->port_rejects()).c_str());
+    if (pipeline->inputs().has(est::loop::InputKind::scan)) {
+      const auto& beams = pipeline->gate().scan().beams();  // readings refused inside scans the gate passed
+      std::fprintf(f, "  beams.scan: nan=%u below_min=%u\n", beams.not_a_number, beams.below_min);
+    }
     if (lcm_inputs)
       std::fprintf(f, "  rejects.lcm:%s accepted=%llu\n", reason_list<hal::lcm::LcmReject>(lcm_inputs->rejects()).c_str(),
                    static_cast<unsigned long long>(lcm_inputs->accepted()));
