@@ -555,9 +555,10 @@ struct Node::Impl {
     else
       std::fprintf(f, "  run: wall_s=%.3f live_speed=%g\n", wall_s, c.live_speed);
     if (alignment && alignment->aligned())
-      std::fprintf(f, "  stamps: aligned at the first message on %s, offset_s=%.6f streams_left=%llu\n",
+      std::fprintf(f, "  stamps: aligned at the first message on %s, offset_s=%.6f streams_left=%llu realigned=%llu\n",
                    alignment->first_channel().c_str(), static_cast<double>(alignment->offset_ns()) * 1.0e-9,
-                   static_cast<unsigned long long>(alignment->streams_left()));
+                   static_cast<unsigned long long>(alignment->streams_left()),
+                   static_cast<unsigned long long>(alignment->realigned()));
     std::string kinds, stale;
     for (const est::loop::InputKindInfo& k : est::loop::kInputKinds) {
       kinds += std::string(" ") + k.name + "=" + std::to_string(to_loop[est::loop::index_of(k.kind)]);
