@@ -42,7 +42,7 @@ const std::string kInputChannels = "^EST_(WHEEL_TICKS|STEERING|TWIST|ODOMETRY|RA
 
 // One recorded stream for every case: the office, the bicycle with its 360-beam scans at 10 Hz, encoders at 100 Hz,
 // steering at 50 Hz, landmark sightings at 5 Hz; no faults (a fault would be a reject, not a load effect).
-constexpr double kStreamS = 12.0;
+constexpr double kStreamS = 16.0;
 struct Stream {
   ScratchDir dir{"est_node_load"};
   std::string d = dir.path.string() + "/";
@@ -230,7 +230,7 @@ std::pair<std::vector<est_lcm::pose_estimate_t>, std::string> restart(const std:
 
 // Measured: lost while global localization converges, then on the truth to the end (README, "estimator_node").
 TEST_CASE("a node killed mid-stream and restarted with --global says so and is on the truth by the end", "[restart]") {
-  const auto [estimates, said] = restart("global", 3.0, "--global");
+  const auto [estimates, said] = restart("global", 2.0, "--global");
   INFO(said);
   CHECK(said.find("initial belief: global localization, ") != std::string::npos);
   CHECK(said.find("aligned sender stamps to the node clock") != std::string::npos);
@@ -246,7 +246,7 @@ TEST_CASE("a node killed mid-stream and restarted with --global says so and is o
 TEST_CASE("a node killed mid-stream and restarted with --initial-pose where the robot is says so and tracks",
           "[restart]") {
   // Where the robot is about when the new node takes its first input (~1 s after the kill: its start-up).
-  const double kill_s = 3.0;
+  const double kill_s = 2.0;
   const Stream& s = stream();
   const est_lcm::ground_truth_t& g =
       s.truth_at(s.truth.front().stamp_ns + static_cast<std::int64_t>((kill_s + 1.0) * 1e9));

@@ -32,7 +32,10 @@ void StampAlignment::align(TimeNs stamp_ns, const std::string& channel) {
 void StampAlignment::settle(TimeNs stamp_ns, const std::string& channel) {
   if (!settling_) return;
   const TimeNs now = arrival_ns_ != 0 ? arrival_ns_ : clock_.now_ns();
-  if (now - aligned_at_ns_ > limits_.max_age_ns) {
+  // One second of the node's time (0.1 s of wall time at 10x) or the gate's window if longer: a host busy at the
+  // start can hold up the first tens of messages, not only the first.
+  const TimeNs settle_ns = limits_.max_age_ns > hal::kNsPerS ? limits_.max_age_ns : hal::kNsPerS;
+  if (now - aligned_at_ns_ > settle_ns) {
     settling_ = false;
     return;
   }

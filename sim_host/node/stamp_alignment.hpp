@@ -6,7 +6,7 @@
 // its stamps (offset 0). The node's outputs are mapped back (to_sender): its estimates are in the sender's time, as
 // a --replay of the same stream gives them. A node aligns one stream, at its pace: a stream that leaves the
 // alignment for good (a log played again, a player paused or faster than 1x) is refused by the gate, stale or from
-// the future, and said so once. While the stream settles (the gate's window after its first message), a message that
+// the future, and said so once. While the stream settles (1 s of the node's time after its first message), a message that
 // came markedly earlier than the first one implies shows that the first one was late (a busy host at 10x: 11 ms of
 // wall time is the whole future margin): the offset is taken again from it (said once). Host only.
 #include <cstdint>
