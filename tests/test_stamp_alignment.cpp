@@ -123,6 +123,36 @@ TEST_CASE("a sender already on the node's clock keeps its stamps", "[alignment]"
         std::string::npos);
 }
 
+TEST_CASE("a first message held up is found out while the stream settles: re-aligned once, none from the future",
+          "[alignment]") {
+  FakeClock clock;
+  clock.now = 5000 * kNsPerS;
+  hal::InputLimits limits;
+  Count loop;
+  hal::ValidatedInputs gate(limits, clock, loop);
+  Said said;
+  node::StampAlignment align(clock, limits.steering.timing, hal::lcm::Channels{}, gate, said.f);
+  // The first message is held up 110 ms (a busy host: 11 ms of wall time at 10x) and the ten sent after it in that
+  // time come with it, in a burst; the rest on time.
+  const TimeNs held = 110 * kNsPerMs;
+  const TimeNs first_arrival = clock.now;
+  for (int i = 0; i < 100; ++i) {
+    clock.now = std::max(first_arrival, first_arrival - held + i * 10 * kNsPerMs);
+    align.on(hal::SteeringSample{kNsPerS + i * 10 * kNsPerMs, 0.0f});
+  }
+  const std::string s = said.text();
+  INFO(s);
+  CHECK(align.realigned() >= 1u);
+  CHECK(gate.steering().faults()[hal::Fault::from_future] == 0u);
+  CHECK(align.streams_left() == 0u);
+  // The few taken before a re-alignment put the next ones back in time: refused as such (or as duplicates of a stamp
+  // already taken), and only those.
+  const hal::FaultCounters& f = gate.steering().faults();
+  CHECK(static_cast<long>(loop.n) + static_cast<long>(f[hal::Fault::time_backwards] + f[hal::Fault::duplicate]) == 100);
+  CHECK(loop.n >= 90);
+  CHECK(s.find("re-aligned sender stamps at a message on EST_STEERING that came") != std::string::npos);
+}
+
 TEST_CASE("a log played again is said once and rejected by the gate as stale, where one late message is only stale",
           "[alignment]") {
   FakeClock clock;

@@ -33,6 +33,7 @@
 #include "hal/socketcan/socketcan_bus.hpp"
 #include "hal/status_word.hpp"
 #include "node/lcm_log_io.hpp"
+#include "node/lcm_receiver.hpp"
 #include "node/stamp_alignment.hpp"
 #include "node/pacer.hpp"
 #include "node/udp_drops.hpp"
@@ -51,10 +52,11 @@ extern "C" void on_stop_signal(int sig) { g_stop_signal.store(sig); }
 // time of a stream played at S times real time).
 struct MonotonicClock final : hal::Clock {
   explicit MonotonicClock(double speed = 1.0) : speed_(speed), origin_ns_(hal::socketcan::monotonic_now_ns()) {}
-  TimeNs now_ns() override {
-    const TimeNs now = hal::socketcan::monotonic_now_ns();
-    if (speed_ == 1.0) return now;
-    return origin_ns_ + static_cast<TimeNs>(static_cast<double>(now - origin_ns_) * speed_);
+  TimeNs now_ns() override { return at(hal::socketcan::monotonic_now_ns()); }
+  // A time of the monotonic clock on this one.
+  TimeNs at(TimeNs monotonic_ns) const {
+    if (speed_ == 1.0) return monotonic_ns;
+    return origin_ns_ + static_cast<TimeNs>(static_cast<double>(monotonic_ns - origin_ns_) * speed_);
   }
 
  private:
@@ -346,7 +348,7 @@ struct Node::Impl {
     else
       rc = run_live();
     stop_signal = g_stop_signal.load();
-    if (!replay && lcm_in) udp_drops_at_end = udp_receive_drops();
+    if (receiver) udp_drops_at_end = udp_receive_drops();
     pipeline->flush();
     outputs.final_status();
     if (view) view->stop();
@@ -438,26 +440,30 @@ struct Node::Impl {
     catch_stop_signals();
 
     if (c.lcm_input) {
-      lcm_in = std::make_unique<::lcm::LCM>(c.lcm_url);
-      if (!lcm_in->good()) {
-        std::fprintf(stderr, "estimator_node: cannot open LCM %s\n", c.lcm_url.c_str());
-        return 1;
-      }
+      // The inputs go udpm -> the receiver's thread -> its bounded queue -> memq -> the backend's own decoding
+      // (as a replay feeds them), so the loop's pace never decides what LCM or the kernel loses.
+      lcm_in = std::make_unique<::lcm::LCM>("memq://");
       lcm_inputs = std::make_unique<hal::lcm::LcmInputs>(
           *lcm_in,
           lcm_input_config(c.can_interface.empty() ? c.lcm_wheel_counter_bits : hal::can::kCanWheelCounterBits),
           alignment ? static_cast<hal::SensorPort&>(*alignment) : pipeline->input());
-      if (view) lcm_in->subscribe(c.channels.ground_truth, &Impl::on_truth, this);
+      std::vector<std::string> channels = lcm_inputs->input_channels();
+      if (view) channels.push_back(c.channels.ground_truth);
+      receiver = std::make_unique<LcmReceiver>(c.lcm_url, channels);
+      if (!receiver->good()) {
+        std::fprintf(stderr, "estimator_node: cannot open LCM %s\n", c.lcm_url.c_str());
+        return 1;
+      }
     }
-    ::lcm::LCM* out = lcm_in.get();
-    if (out == nullptr || c.lcm_out_url != c.lcm_url) {
+    // The outputs on an instance of their own (publishing from this thread while the receiver's handles in its own).
+    {
       lcm_out = std::make_unique<::lcm::LCM>(c.lcm_out_url);
       if (!lcm_out->good()) {
         std::fprintf(stderr, "estimator_node: cannot open LCM %s for the outputs\n", c.lcm_out_url.c_str());
         return 1;
       }
-      out = lcm_out.get();
     }
+    ::lcm::LCM* out = lcm_out.get();
     lcm_outputs = std::make_unique<hal::lcm::LcmOutputs>(*out, c.channels);
     outputs.lcm = lcm_outputs.get();
 
@@ -479,6 +485,7 @@ struct Node::Impl {
 
     std::fprintf(stderr, "estimator_node: running (%s%s%s%s)\n", c.can_interface.empty() ? "" : "can ",
                  c.can_interface.c_str(), c.lcm_input ? " lcm " : "", c.lcm_input ? c.lcm_url.c_str() : "");
+    if (receiver) receiver->start();
     if (c.live_speed != 1.0)
       std::fprintf(stderr, "estimator_node: the stream's time runs %gx the wall clock (--live-speed)\n", c.live_speed);
     const TimeNs end_ns = c.duration_s > 0.0 ? monotonic.now_ns() + static_cast<TimeNs>(c.duration_s * 1.0e9) : 0;
@@ -487,7 +494,7 @@ struct Node::Impl {
       pollfd fds[2];
       nfds_t n = 0;
       if (bus && bus->is_open()) fds[n++] = {bus->fd(), POLLIN, 0};
-      if (lcm_in) fds[n++] = {lcm_in->getFileno(), POLLIN, 0};
+      if (receiver) fds[n++] = {receiver->wake_fd(), POLLIN, 0};
       ::poll(fds, n, 10);
       const TimeNs now = monotonic.now_ns();
       if (end_ns != 0 && now >= end_ns) break;
@@ -504,18 +511,37 @@ struct Node::Impl {
         }
         can_input->poll(now);
       }
-      if (lcm_in) {
+      if (receiver) {
         refresh(bus ? bus->take_status() : 0u);
-        for (int k = 0; k < 256 && lcm_in->handleTimeout(0) > 0; ++k) refresh(bus ? bus->take_status() : 0u);
+        receiver->clear_wake();
+        // Bounded like the CAN reads: at most one queue's worth per wake-up.
+        for (std::size_t k = 0; k < receiver->capacity() && hand_one(); ++k) refresh(bus ? bus->take_status() : 0u);
       }
       feed_view();
+    }
+    if (receiver) {  // what was received is handed over or counted as dropped, never left behind
+      receiver->stop();
+      while (hand_one()) refresh(0);
     }
     return 0;
   }
 
-  void on_truth(const ::lcm::ReceiveBuffer* rbuf, const std::string&) {
-    view_truth(rbuf->data, rbuf->data_size);
+  // The oldest queued LCM message through the backend's decoding (or to the view, the ground truth); false if none.
+  bool hand_one() {
+    if (!receiver->pop(raw)) return false;
+    const std::string& channel = receiver->channels()[raw.channel];
+    if (view && channel == c.channels.ground_truth) {
+      view_truth(raw.bytes.data(), raw.size);
+      return true;
+    }
+    const TimeNs wait = monotonic_wall_ns() - raw.receive_ns;
+    if (wait > worst_queue_wait_ns) worst_queue_wait_ns = wait;
+    if (alignment) alignment->set_arrival_ns(monotonic.at(raw.receive_ns));
+    lcm_in->publish(channel, raw.bytes.data(), static_cast<unsigned>(raw.size));
+    lcm_in->handle();
+    return true;
   }
+  static TimeNs monotonic_wall_ns() { return hal::socketcan::monotonic_now_ns(); }
 
   void print_summary(std::FILE* f) const {
     const est::loop::LoopCounters& lc = pipeline->loop_counters();
@@ -530,9 +556,10 @@ struct Node::Impl {
     else
       std::fprintf(f, "  run: wall_s=%.3f live_speed=%g\n", wall_s, c.live_speed);
     if (alignment && alignment->aligned())
-      std::fprintf(f, "  stamps: aligned at the first message on %s, offset_s=%.6f streams_left=%llu\n",
+      std::fprintf(f, "  stamps: aligned at the first message on %s, offset_s=%.6f streams_left=%llu realigned=%llu\n",
                    alignment->first_channel().c_str(), static_cast<double>(alignment->offset_ns()) * 1.0e-9,
-                   static_cast<unsigned long long>(alignment->streams_left()));
+                   static_cast<unsigned long long>(alignment->streams_left()),
+                   static_cast<unsigned long long>(alignment->realigned()));
     std::string kinds, stale;
     for (const est::loop::InputKindInfo& k : est::loop::kInputKinds) {
       kinds += std::string(" ") + k.name + "=" + std::to_string(to_loop[est::loop::index_of(k.kind)]);
@@ -553,10 +580,15 @@ struct Node::Impl {
       std::fprintf(f, "  rejects.%s:%s\n", name, reason_list<hal::Fault>(fc).c_str());
     });
     std::fprintf(f, "  rejects.loop_port:%s\n", reason_list<hal::LoopPortReject>(pipeline->port_rejects()).c_str());
+    if (pipeline->inputs().has(est::loop::InputKind::scan)) {
+      const auto& beams = pipeline->gate().scan().beams();  // readings refused inside scans the gate passed
+      std::fprintf(f, "  beams.scan: nan=%u below_min=%u\n", beams.not_a_number, beams.below_min);
+    }
     if (lcm_inputs)
       std::fprintf(f, "  rejects.lcm:%s accepted=%llu\n", reason_list<hal::lcm::LcmReject>(lcm_inputs->rejects()).c_str(),
                    static_cast<unsigned long long>(lcm_inputs->accepted()));
-    if (!replay && lcm_in) {
+    if (receiver) print_queue(f);
+    if (receiver) {
       // Live over udpm: what the kernel dropped before LCM saw it (a full receive buffer: the node fell behind).
       if (const std::optional<std::uint64_t> drops = udp_drops_at_end)
         std::fprintf(f, "  lcm_udp: kernel_drops=%llu (datagrams dropped on a full receive buffer)\n",
@@ -601,6 +633,24 @@ struct Node::Impl {
                    static_cast<unsigned long long>(record_log->failures()));
   }
 
+  // received = handed + dropped (full: the oldest gave way; oversize: larger than a slot, as no valid input is).
+  void print_queue(std::FILE* f) const {
+    const RawQueueCounters q = receiver->counters();
+    std::string by_channel;
+    for (std::size_t i = 0; i < receiver->channels().size(); ++i)
+      by_channel += (i == 0 ? "" : " ") + receiver->channels()[i] + "=" +
+                    std::to_string(q.dropped_full[i] + q.dropped_oversize[i]);
+    std::fprintf(f,
+                 "  lcm_queue: capacity=%zu received=%llu handed=%llu dropped=%llu (by channel %s) oversize=%llu "
+                 "high_water=%zu worst_wait_ms=%.1f\n",
+                 receiver->capacity(), static_cast<unsigned long long>(RawQueueCounters::sum(q.received)),
+                 static_cast<unsigned long long>(RawQueueCounters::sum(q.handed)),
+                 static_cast<unsigned long long>(RawQueueCounters::sum(q.dropped_full) +
+                                                 RawQueueCounters::sum(q.dropped_oversize)),
+                 by_channel.c_str(), static_cast<unsigned long long>(RawQueueCounters::sum(q.dropped_oversize)),
+                 q.high_water, static_cast<double>(worst_queue_wait_ns) * 1.0e-6);
+  }
+
   std::uint32_t rejects_total() const {
     return saturate(std::uint64_t{transport_rejects()} + pipeline->gate().faults().total() +
                     pipeline->port_rejects().total() + candump_rejects);
@@ -627,6 +677,9 @@ struct Node::Impl {
   std::unique_ptr<::lcm::LCM> lcm_in, lcm_out;
   std::unique_ptr<hal::lcm::LcmInputs> lcm_inputs;
   std::unique_ptr<hal::lcm::LcmOutputs> lcm_outputs;
+  std::unique_ptr<LcmReceiver> receiver;  // live LCM inputs: the udpm instance, its thread and queue
+  RawMessage raw;                         // the message being handed over
+  TimeNs worst_queue_wait_ns = 0;
   std::unique_ptr<hal::socketcan::SocketCanBus> bus;
   std::unique_ptr<hal::can::ScanReassembler<static_cast<std::size_t>(kMaxBeams)>> scans;
   std::unique_ptr<hal::can::CanInput> can_input;

@@ -5,7 +5,7 @@
 // construct a Node, run it and read its counters in process (host only; throws std::runtime_error on a map that
 // cannot be loaded, std::invalid_argument on a configuration the firmware refuses).
 //
-// Data path: transport -> node/estimator_pipeline.hpp (hal::ValidatedInputs -> [input counter, recorder] ->
+// Data path: transport (live LCM: node/lcm_receiver.hpp's thread and bounded queue, then memq) -> node/estimator_pipeline.hpp (hal::ValidatedInputs -> [input counter, recorder] ->
 // hal::LoopPort -> est::loop::FilterLoop) -> the outputs (LCM, CAN, log files), and with --view the live view
 // (sim_host/view/: the estimates, MCL's particles at ~10 Hz and the input's ground truth, handed off without ever
 // holding the loop).

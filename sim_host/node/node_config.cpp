@@ -426,6 +426,9 @@ std::string command_line(const EstimatorSpec& e, const std::string& map, const s
          " --landmark-sigma-bearing " + f(e.landmark_noise.sigma_bearing) + " --landmark-sigma-signature " +
          f(e.landmark_noise.sigma_signature) + " --landmark-max-range " + f(e.limits.landmarks.max_range_m);
     if (!e.landmark_ids) o += " --landmark-association ml";
+  } else {
+    // The HAL's gate judges landmark sightings whatever the filter does with them (MCL drops them): its reach too.
+    o += " --landmark-max-range " + f(e.limits.landmarks.max_range_m);
   }
   if (e.filter == est::loop::Filter::ekf && e.ambiguity_nats > 0.0f) o += " --ambiguity-nats " + f(e.ambiguity_nats);
   if (e.filter == est::loop::Filter::ekf && e.landmark_sigma_range_per_m > 0.0f)

@@ -36,6 +36,8 @@ class LcmInputs {
   const LcmRejectCounters& team_rejects() const { return team_rejects_; }
   // Whether `channel` is one of the sensor channels this receives.
   bool is_input_channel(const std::string& channel) const;
+  // The sensor channels this receives, in subscription order.
+  const std::vector<std::string>& input_channels() const { return input_channels_; }
 
  private:
   template <typename Sample>
