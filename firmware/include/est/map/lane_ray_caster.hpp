@@ -41,6 +41,15 @@ namespace est {
 
 inline constexpr std::int32_t kLaneKeyUnitsPerCell = 16;
 
+// One candidate of a lane: the cell and its key; every lane ends with a sentinel of key kLaneSentinel.
+struct LaneEntry {
+  std::uint16_t key;  // 16 x the smallest u of the cell's square, floored (and one unit less)
+  std::uint16_t cx;
+  std::uint16_t cy;
+  std::uint16_t unused;
+};
+inline constexpr std::uint16_t kLaneSentinel = 65535;
+
 inline float lane_min(float a, float b) { return a < b ? a : b; }
 inline float lane_max(float a, float b) { return a > b ? a : b; }
 
@@ -49,7 +58,9 @@ enum class LaneRayCasterStatus : std::uint8_t {
   bad_grid,      // empty or invalid grid, or a side above 65535 cells or a diagonal above 4095 cells
   bad_bins,      // T is not a power of two in [4, the storage's T]
   too_many_lanes,
-  too_many_entries,
+  too_many_entries,  // also: one lane of more than 65535 entries
+  too_many_blocks,
+  bad_block,         // the block is not a power of two in [4, 1024] cells
 };
 
 // Read-only view over a built structure.
@@ -61,9 +72,11 @@ class LaneRayCaster {
     const float* u_off = nullptr;        // [T] offsets making u, s >= 0 on the map
     const float* s_off = nullptr;        // [T]
     const std::uint32_t* lane_base = nullptr;  // [T + 1] first lane of heading b in lane_begin
-    const std::uint32_t* lane_begin = nullptr;  // [lanes + 1] first entry of each lane
-    const std::uint16_t* key = nullptr;         // [entries] 16 x min u of the cell, floored
-    const std::uint32_t* cell = nullptr;        // [entries] cy << 16 | cx
+    const LaneEntry* entry = nullptr;           // lanes after lanes, each sorted by key and ended by a sentinel
+    const std::uint32_t* block_base = nullptr;  // [T] first block of heading b
+    const std::uint32_t* blocks_per_lane = nullptr;  // [T]
+    const std::uint32_t* block = nullptr;  // per lane and block of u: the lane's first entry with key >= the block's
+    std::uint32_t block_shift = 0;         // a block is 2^block_shift key units
     std::int32_t bins = 0;
     float min_cos_gap = 1.0f;  // cos of 0.7 bin: a heading further from the ray's is replaced by the ray's own
   };
@@ -73,7 +86,7 @@ class LaneRayCaster {
       : grid_(grid), t_(t), mask_(static_cast<std::uint32_t>(t.bins - 1)),
         bins_per_rad_(static_cast<float>(t.bins) / kTwoPi) {}
 
-  bool valid() const { return grid_.valid() && t_.bins > 0 && t_.key != nullptr; }
+  bool valid() const { return grid_.valid() && t_.bins > 0 && t_.entry != nullptr; }
   const OccupancyGrid& grid() const { return grid_; }
   std::int32_t bins() const { return t_.bins; }
   float bins_per_rad() const { return bins_per_rad_; }
@@ -104,8 +117,10 @@ class LaneRayCaster {
     const float sd = cb * dy - sb * dx;  // sin of the gap: lanes drift by sd per cell along the ray
     const float u0 = cb * r.gx + sb * r.gy - t_.u_off[b];
     const float s0 = cb * r.gy - sb * r.gx - t_.s_off[b];
-    const std::uint32_t lane0 = t_.lane_base[b];
+    const std::uint32_t lane0 = t_.lane_base[b];  // lanes of heading b: [lane_base[b], lane_base[b + 1])
     const std::int32_t lanes = static_cast<std::int32_t>(t_.lane_base[b + 1] - lane0);
+    const std::uint32_t block0 = t_.block_base[b];
+    const std::uint32_t n_blocks = t_.blocks_per_lane[b];
     // Where the ray leaves the map bounds the walk through the lanes.
     const float fw = static_cast<float>(grid_.width()), fh = static_cast<float>(grid_.height());
     float t_end = r.t_max;
@@ -125,24 +140,19 @@ class LaneRayCaster {
         const float tl = (static_cast<float>(sd > 0.0f ? j + 1 : j) - s0) * inv_sd;
         if (tl < tb) tb = tl;
       }
-      std::uint32_t lo = t_.lane_begin[lane0 + static_cast<std::uint32_t>(j)];
-      std::uint32_t hi = t_.lane_begin[lane0 + static_cast<std::uint32_t>(j) + 1u];
-      // First candidate that can be entered after ta: a square spans at most sqrt(2) cells along u.
+      // First candidate that can be entered after ta: a square spans at most sqrt(2) cells along u. The block
+      // index gives the first entry of the key's block; a few steps reach the key.
       const float ua = (u0 + ta * cd - 1.5f) * kU - 1.0f;
       const std::int32_t key_lo = ua > 0.0f ? static_cast<std::int32_t>(ua) : 0;
-      for (std::int32_t h = 0; h < 32 && lo < hi; ++h) {
-        const std::uint32_t mid = lo + ((hi - lo) >> 1);
-        if (static_cast<std::int32_t>(t_.key[mid]) < key_lo)
-          lo = mid + 1u;
-        else
-          hi = mid;
-      }
-      const std::uint32_t end = t_.lane_begin[lane0 + static_cast<std::uint32_t>(j) + 1u];
+      std::uint32_t blk = static_cast<std::uint32_t>(key_lo) >> t_.block_shift;
+      if (blk >= n_blocks) blk = n_blocks - 1u;
+      const LaneEntry* e = t_.entry + t_.block[block0 + static_cast<std::uint32_t>(j) * n_blocks + blk];
+      // Bounded by the lane's sentinel, whose key is above every key_lo and key_hi (keys < 16 x 4095 + 1).
+      while (static_cast<std::int32_t>(e->key) < key_lo) ++e;
       float t_lim = tb < best ? tb : best;
       std::int32_t key_hi = static_cast<std::int32_t>((u0 + t_lim * cd) * kU) + 1;
-      for (std::uint32_t i = lo; i < end; ++i) {
-        if (static_cast<std::int32_t>(t_.key[i]) > key_hi) break;
-        const float te = enter(r, t_.cell[i]);
+      for (; static_cast<std::int32_t>(e->key) <= key_hi; ++e) {
+        const float te = enter(r, *e);
         if (te < best) {
           best = te;
           if (best < t_lim) {
@@ -161,9 +171,9 @@ class LaneRayCaster {
 
  private:
   // The ray parameter (cells) at which the traversal enters the cell, or kNever if it does not.
-  static float enter(const detail::GridRay& r, std::uint32_t packed) {
-    const std::int32_t cx = static_cast<std::int32_t>(packed & 0xFFFFu);
-    const std::int32_t cy = static_cast<std::int32_t>(packed >> 16);
+  static float enter(const detail::GridRay& r, const LaneEntry& e) {
+    const std::int32_t cx = e.cx;
+    const std::int32_t cy = e.cy;
     float txn = -detail::GridRay::kNever, txf = detail::GridRay::kNever;
     float tyn = -detail::GridRay::kNever, tyf = detail::GridRay::kNever;
     if (r.step_x > 0) {
@@ -206,20 +216,27 @@ class LaneRayCasterBuffer {
 
   std::uint32_t entries() const { return entries_; }
   std::uint32_t lanes() const { return lanes_; }
-  // Bytes in use: 6 per entry, 4 per lane, 20 per heading.
-  std::uint32_t bytes_used() const { return 6u * entries_ + 4u * (lanes_ + 1u) + 20u * static_cast<std::uint32_t>(bins_) + 4u; }
+  std::uint32_t blocks() const { return blocks_; }
+  // Bytes in use by the query: 8 per entry (a sentinel per lane included), 4 per block, 28 per heading (the
+  // storage adds 4 per lane of build scratch).
+  std::uint32_t bytes_used() const { return 8u * entries_ + 4u * blocks_ + 28u * static_cast<std::uint32_t>(bins_) + 4u; }
 
   // Builds the lanes of T headings 2 pi b / T for `grid`. Nothing usable is left unless the result is ok (view()
   // is invalid then). Bounded: T passes over the cells, each cell in at most 3 lanes; a heap sort per lane.
-  LaneRayCasterStatus build(const OccupancyGrid& grid, std::int32_t bins) {
+  // block_cells: the block index's step along u (a power of two in [4, 1024] cells): 2 bytes per lane and block.
+  LaneRayCasterStatus build(const OccupancyGrid& grid, std::int32_t bins, std::int32_t block_cells = 32) {
     view_ = LaneRayCaster{};
-    entries_ = lanes_ = 0;
+    entries_ = lanes_ = blocks_ = 0;
     bins_ = 0;
     if (!grid.valid() || grid.width() > 65535 || grid.height() > 65535) return LaneRayCasterStatus::bad_grid;
     const float fw = static_cast<float>(grid.width()), fh = static_cast<float>(grid.height());
     if (fw + fh >= 4095.0f) return LaneRayCasterStatus::bad_grid;  // |u| < W + H must fit the uint16 key
     if (bins < 4 || bins > cap_bins_ || (bins & (bins - 1)) != 0) return LaneRayCasterStatus::bad_bins;
-    std::uint32_t lane = 0, entry = 0;
+    if (block_cells < 4 || block_cells > 1024 || (block_cells & (block_cells - 1)) != 0)
+      return LaneRayCasterStatus::bad_block;
+    std::uint32_t shift = 4;  // 16 key units per cell
+    while ((1 << (shift - 4u)) < block_cells) ++shift;
+    std::uint32_t lane = 0, entry = 0, block = 0;
     for (std::int32_t b = 0; b < bins; ++b) {
       const float a = kTwoPi * static_cast<float>(b) / static_cast<float>(bins);
       float s = 0.0f, c = 0.0f;
@@ -230,6 +247,12 @@ class LaneRayCasterBuffer {
       s_off_[b] = lane_min(lane_min(0.0f, -s * fw), lane_min(c * fh, c * fh - s * fw));
       const float s_span = lane_max(lane_max(0.0f, -s * fw), lane_max(c * fh, c * fh - s * fw)) - s_off_[b];
       const std::uint32_t n_lanes = static_cast<std::uint32_t>(s_span) + 2u;
+      const float u_span = lane_max(lane_max(0.0f, c * fw), lane_max(s * fh, c * fw + s * fh)) - u_off_[b];
+      const std::uint32_t n_blocks = static_cast<std::uint32_t>(u_span) / static_cast<std::uint32_t>(block_cells) + 2u;
+      block_base_[b] = block;
+      blocks_per_lane_[b] = n_blocks;
+      if (static_cast<std::uint64_t>(block) + static_cast<std::uint64_t>(n_lanes) * n_blocks > cap_blocks_)
+        return LaneRayCasterStatus::too_many_blocks;
       lane_base_[b] = lane;
       if (lane + n_lanes + 1u > cap_lanes_) return LaneRayCasterStatus::too_many_lanes;
       // The sides a ray of this heading (+- 3/4 bin) can enter a cell from.
@@ -239,8 +262,9 @@ class LaneRayCasterBuffer {
       fmath::sincos(a + half, s_hi, c_hi);
       const Faces faces{c_lo > 0.0f || c_hi > 0.0f, c_lo < 0.0f || c_hi < 0.0f, s_lo > 0.0f || s_hi > 0.0f,
                         s_lo < 0.0f || s_hi < 0.0f};
-      std::uint32_t* begin = lane_begin_ + lane;
-      for (std::uint32_t k = 0; k <= n_lanes; ++k) begin[k] = 0;
+      std::uint32_t* begin = lane_begin_ + lane;  // scratch: the lanes' first entries
+      begin[0] = 0;
+      for (std::uint32_t k = 1; k <= n_lanes; ++k) begin[k] = 1;  // each lane's sentinel
       // Pass 1: count per lane (into begin[j + 1]); pass 2: place; then sort each lane by key.
       for (int pass = 0; pass < 2; ++pass) {
         for (std::int32_t cy = 0; cy < grid.height(); ++cy) {
@@ -253,9 +277,8 @@ class LaneRayCasterBuffer {
               if (pass == 0) {
                 ++begin[j + 1];
               } else {
-                const std::uint32_t at = entry + begin[j]++;
-                key_[at] = key;
-                cell_[at] = (static_cast<std::uint32_t>(cy) << 16) | static_cast<std::uint32_t>(cx);
+                ent_[entry + begin[j]++] =
+                    LaneEntry{key, static_cast<std::uint16_t>(cx), static_cast<std::uint16_t>(cy), 0};
               }
             }
           }
@@ -265,10 +288,21 @@ class LaneRayCasterBuffer {
           if (entry + begin[n_lanes] > cap_entries_) return LaneRayCasterStatus::too_many_entries;
         }
       }
-      // After placing, begin[j] is the end of lane j: shift back and make the offsets absolute.
-      for (std::uint32_t k = n_lanes; k > 0; --k) begin[k] = begin[k - 1] + entry;
+      // After placing, begin[j] is lane j's sentinel: write it, shift back and make the offsets absolute.
+      for (std::uint32_t k = 0; k < n_lanes; ++k) ent_[entry + begin[k]] = LaneEntry{kLaneSentinel, 0, 0, 0};
+      for (std::uint32_t k = n_lanes; k > 0; --k) begin[k] = begin[k - 1] + 1u + entry;
       begin[0] = entry;
-      for (std::uint32_t k = 0; k < n_lanes; ++k) heap_sort(begin[k], begin[k + 1]);
+      for (std::uint32_t k = 0; k < n_lanes; ++k) {
+        const std::uint32_t last = begin[k + 1] - 1u;  // the sentinel
+        heap_sort(begin[k], last);
+        std::uint32_t i = begin[k];
+        for (std::uint32_t q = 0; q < n_blocks; ++q) {
+          const std::uint32_t first_key = q << shift;
+          while (i < last && ent_[i].key < first_key) ++i;
+          block_[block + k * n_blocks + q] = i;
+        }
+      }
+      block += n_lanes * n_blocks;
       entry = begin[n_lanes];
       lane += n_lanes;
     }
@@ -276,6 +310,7 @@ class LaneRayCasterBuffer {
     lane_begin_[lane] = entry;
     entries_ = entry;
     lanes_ = lane;
+    blocks_ = block;
     bins_ = bins;
     LaneRayCaster::Tables t;
     t.cos_b = cos_;
@@ -283,9 +318,11 @@ class LaneRayCasterBuffer {
     t.u_off = u_off_;
     t.s_off = s_off_;
     t.lane_base = lane_base_;
-    t.lane_begin = lane_begin_;
-    t.key = key_;
-    t.cell = cell_;
+    t.entry = ent_;
+    t.block_base = block_base_;
+    t.blocks_per_lane = blocks_per_lane_;
+    t.block = block_;
+    t.block_shift = shift;
     t.bins = bins;
     float sg = 0.0f, cg = 1.0f;
     fmath::sincos(0.7f * kTwoPi / static_cast<float>(bins), sg, cg);
@@ -297,10 +334,12 @@ class LaneRayCasterBuffer {
 
  protected:
   LaneRayCasterBuffer(float* cos_b, float* sin_b, float* u_off, float* s_off, std::uint32_t* lane_base,
-                      std::int32_t cap_bins, std::uint32_t* lane_begin, std::uint32_t cap_lanes, std::uint16_t* key,
-                      std::uint32_t* cell, std::uint32_t cap_entries)
+                      std::int32_t cap_bins, std::uint32_t* lane_begin, std::uint32_t cap_lanes, LaneEntry* entries,
+                      std::uint32_t cap_entries, std::uint32_t* block_base, std::uint32_t* blocks_per_lane,
+                      std::uint32_t* block, std::uint32_t cap_blocks)
       : cos_(cos_b), sin_(sin_b), u_off_(u_off), s_off_(s_off), lane_base_(lane_base), cap_bins_(cap_bins),
-        lane_begin_(lane_begin), cap_lanes_(cap_lanes), key_(key), cell_(cell), cap_entries_(cap_entries) {}
+        lane_begin_(lane_begin), cap_lanes_(cap_lanes), ent_(entries), cap_entries_(cap_entries),
+        block_base_(block_base), blocks_per_lane_(blocks_per_lane), block_(block), cap_blocks_(cap_blocks) {}
   ~LaneRayCasterBuffer() = default;
 
  private:
@@ -337,19 +376,16 @@ class LaneRayCasterBuffer {
     key = k16 > 0.0f ? static_cast<std::uint16_t>(k16) : std::uint16_t{0};
   }
   void swap_at(std::uint32_t a, std::uint32_t b) {
-    const std::uint16_t k = key_[a];
-    key_[a] = key_[b];
-    key_[b] = k;
-    const std::uint32_t c = cell_[a];
-    cell_[a] = cell_[b];
-    cell_[b] = c;
+    const LaneEntry e = ent_[a];
+    ent_[a] = ent_[b];
+    ent_[b] = e;
   }
   void sift_down(std::uint32_t base, std::uint32_t root, std::uint32_t n) {
     for (std::uint32_t guard = 0; guard < 32u; ++guard) {
       std::uint32_t child = 2u * root + 1u;
       if (child >= n) return;
-      if (child + 1u < n && key_[base + child + 1u] > key_[base + child]) ++child;
-      if (key_[base + root] >= key_[base + child]) return;
+      if (child + 1u < n && ent_[base + child + 1u].key > ent_[base + child].key) ++child;
+      if (ent_[base + root].key >= ent_[base + child].key) return;
       swap_at(base + root, base + child);
       root = child;
     }
@@ -373,26 +409,31 @@ class LaneRayCasterBuffer {
   std::int32_t cap_bins_;
   std::uint32_t* lane_begin_;
   std::uint32_t cap_lanes_;
-  std::uint16_t* key_;
-  std::uint32_t* cell_;
+  LaneEntry* ent_;
   std::uint32_t cap_entries_;
-  std::uint32_t entries_ = 0, lanes_ = 0;
+  std::uint32_t* block_base_;
+  std::uint32_t* blocks_per_lane_;
+  std::uint32_t* block_;
+  std::uint32_t cap_blocks_;
+  std::uint32_t entries_ = 0, lanes_ = 0, blocks_ = 0;
   std::int32_t bins_ = 0;
   LaneRayCaster view_{};
 };
 
-// The owner: T headings, at most MaxLanes lanes and MaxEntries entries over all headings; a static object.
-// Lanes per heading <= |W cos| + |H sin| + 2; entries are what the map needs (build() says too_many_entries).
-template <std::int32_t TMax, std::uint32_t MaxLanes, std::uint32_t MaxEntries>
+// The owner: T headings, at most MaxLanes lanes, MaxEntries entries and MaxBlocks blocks over all headings; a
+// static object. Lanes per heading <= |W sin| + |H cos| + 2, blocks per lane <= (|W cos| + |H sin|) / block + 2;
+// entries are what the map needs (build() says which capacity is short).
+template <std::int32_t TMax, std::uint32_t MaxLanes, std::uint32_t MaxEntries, std::uint32_t MaxBlocks>
 class LaneRayCasterStorage final : public LaneRayCasterBuffer {
   static_assert(TMax >= 4 && TMax <= 65536 && (TMax & (TMax - 1)) == 0, "T must be a power of two >= 4");
-  static_assert(MaxLanes > 0 && MaxEntries > 0, "capacities must be positive");
+  static_assert(MaxLanes > 0 && MaxEntries > 0 && MaxBlocks > 0, "capacities must be positive");
 
  public:
-  static constexpr std::uint64_t kBytes = 6ull * MaxEntries + 4ull * (MaxLanes + 1ull) + 20ull * TMax + 4ull;
+  static constexpr std::uint64_t kBytes =
+      8ull * MaxEntries + 4ull * (MaxLanes + 1ull) + 4ull * MaxBlocks + 28ull * TMax + 4ull;
   LaneRayCasterStorage()
-      : LaneRayCasterBuffer(cos_, sin_, u_off_, s_off_, lane_base_, TMax, lane_begin_, MaxLanes + 1u, key_, cell_,
-                            MaxEntries) {}
+      : LaneRayCasterBuffer(cos_, sin_, u_off_, s_off_, lane_base_, TMax, lane_begin_, MaxLanes + 1u, entry_storage_,
+                            MaxEntries, block_base_, blocks_per_lane_, block_, MaxBlocks) {}
 
  private:
   static constexpr std::uint32_t kT = static_cast<std::uint32_t>(TMax);
@@ -402,8 +443,10 @@ class LaneRayCasterStorage final : public LaneRayCasterBuffer {
   float s_off_[kT];
   std::uint32_t lane_base_[kT + 1u];
   std::uint32_t lane_begin_[MaxLanes + 1u];
-  std::uint16_t key_[MaxEntries];
-  std::uint32_t cell_[MaxEntries];
+  LaneEntry entry_storage_[MaxEntries];
+  std::uint32_t block_base_[kT];
+  std::uint32_t blocks_per_lane_[kT];
+  std::uint32_t block_[MaxBlocks];
 };
 
 }  // namespace est
