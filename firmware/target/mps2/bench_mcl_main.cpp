@@ -36,8 +36,8 @@ est::LikelihoodField g_field;
 est::PreparedScan<kK> g_scan;
 est::AugmentedMcl<kN> g_mcl(est::MclConfig{}, 0u);
 // The beam model's exact lane caster: 32 headings, blocks of 64 cells (8 B per entry, 4 per block: 412 KB here).
-constexpr std::int32_t kLaneBins = 64;
-est::LaneRayCasterStorage<kLaneBins, 12000, 76000, 36000> g_lanes;
+constexpr std::int32_t kLaneBins = 32;
+est::LaneRayCasterStorage<kLaneBins, 6000, 40000, 26000> g_lanes;
 est::BeamBearingsStorage<kK> g_bearings;
 est::BeamReadingsStorage<kK> g_readings;
 volatile float g_lanes_sink = 0.0f;
@@ -85,7 +85,7 @@ int main() {
   bp.range_max = 8.0f;
   beam.configure(bp);
   const est::DistanceTransformRayCaster caster(grid, g_edt.view());
-  const bool lanes_ok = g_lanes.build(grid, kLaneBins, 128) == est::LaneRayCasterStatus::ok;
+  const bool lanes_ok = g_lanes.build(grid, kLaneBins, 64) == est::LaneRayCasterStatus::ok;
   const est::LaneRayCaster lanes = g_lanes.view();
   const est::FreeSpaceSampler free_space(grid, g_edt.view(), 0.2f);
   const est::LikelihoodFieldGrid field = g_field_grid.view();

@@ -11,8 +11,9 @@
 //    keyed by the smallest u of the square (floor, 1/16 cell), a lower bound of where any ray can enter it;
 //  - a query at heading a uses the nearest table heading b (|a - b| <= pi / T) and follows the ray through the
 //    lanes it crosses (its lateral drift is t sin(a - b), about 1.5 lanes over 60 cells at T = 64); in each lane a
-//    binary search finds the first candidate that can be entered after the ray reached the lane, and the
-//    candidates are tested in key order with the exact slab test until the key passes the best entry found;
+//    block index (the first entry of every block of u) and a few steps find the first candidate that can be entered
+//    after the ray reached the lane, and the candidates are tested in key order with the exact slab test until the
+//    key passes the best entry found;
 //  - the slab test computes a face crossing with GridRayCaster's own expression ((face - gx) / dx from the same gx
 //    and 1 / dx), and breaks a tie at a cell corner as its traversal does (the y step first), so the result is the
 //    same float as the exact traversal's.
@@ -22,15 +23,22 @@
 //
 // Conventions are GridRayCaster's: unknown cells are free; a start in an occupied cell, outside the map or
 // non-finite returns 0; no hit before max_range or the map's edge returns max_range.
-// Accuracy (tests/test_lane_ray_caster.cpp prints it): against GridRayCaster on the synthetic office and the Intel
-// map, random free starts and headings, the same float on every ray tested (the test requires >= 99.9 % within
-// one cell and states the worst error).
-// Memory: 6 bytes per entry (uint16 key, cell packed in uint32) and 4 bytes per lane, per heading; entries per
-// heading ~ 2.3 x (boundary cells facing that heading). bench_sensor_models prints it for the Intel map; the
-// board's room (160 x 120, T = 64) fits in kBytes of its storage (firmware/target/mps2/bench_mcl_main.cpp).
-// Build: T passes over the grid plus a heap sort per lane (no heap memory); meant for start-up or the host.
-// Every loop is bounded: lanes crossed <= the lane count + 2, candidates <= the lane's entries, the binary
-// search <= 32 halvings.
+// Accuracy (tests/test_lane_ray_caster.cpp prints it and requires >= 99.9 % within one cell): the same float as
+// GridRayCaster on every ray tested, worst error 0 m: 20 000 random rays (free starts, continuous headings) per case
+// on the synthetic office (16, 64, 256 headings; 2 and 20 m) and the Intel map (64, 128 headings; 5 and 30 m), and
+// 17 096 rays from cell centres at multiples of 45 deg (through cell corners, along grid lines).
+// Memory: 8 bytes per entry (uint16 key, uint16 cx, cy; one sentinel per lane) and 4 per block of the per-lane
+// index, per heading; entries per heading ~2.3 x the boundary cells facing it. Intel map 888 x 848, T = 64, blocks
+// of 32 cells: 1.65 M entries, 22.4 MiB (T = 128: 44 MiB); the board's room 160 x 120 (bench_mcl_main.cpp), T = 32,
+// blocks of 64 cells: 39 k entries, 412 KB (T = 16: 221 KB; T = 64: 796 KB).
+// Cost: the lanes crossed (~2.5 per ray on the Intel map at T = 64, 4 on the room at T = 32), in each a block
+// lookup and a few key steps, and ~2 exact slab tests per ray; ~430 x86 instructions per cast in the beam model on
+// the room at T = 64. Measured: bench_sensor_models (host) and bench_mcl.<board> (README, "Benchmarks" and
+// "Budgets on the board"): faster than the distance-transform caster in the cluttered Intel map, not in the board's
+// open room, where that caster jumps across the free space in a few steps.
+// Build: T passes over the grid plus a heap sort per lane (no heap memory); meant for start-up or the host (Intel
+// map: ~0.5 s at T = 64). Every loop is bounded: lanes crossed <= the lane count + 2, key steps and candidates <=
+// the lane's entries (a sentinel ends each lane).
 #include <cstdint>
 
 #include "est/map/occupancy_grid.hpp"
@@ -126,44 +134,55 @@ class LaneRayCaster {
     float t_end = r.t_max;
     if (r.step_x != 0) t_end = lane_min(t_end, ((r.step_x > 0 ? fw : 0.0f) - r.gx) * r.inv_dx);
     if (r.step_y != 0) t_end = lane_min(t_end, ((r.step_y > 0 ? fh : 0.0f) - r.gy) * r.inv_dy);
-    const bool drift = sd > 1e-7f || sd < -1e-7f;
-    const float inv_sd = drift ? 1.0f / sd : 0.0f;
+    // The ray drifts across lanes by sd per cell along it: the lane edge it crosses next and the step to the next.
     std::int32_t j = static_cast<std::int32_t>(s0);
     if (j < 0) j = 0;
     if (j >= lanes) j = lanes - 1;
+    std::int32_t dj = 0;
+    float inv_sd = 0.0f;
+    if (sd > 1e-7f || sd < -1e-7f) {
+      inv_sd = 1.0f / sd;
+      dj = sd > 0.0f ? 1 : -1;
+    }
+    std::int32_t edge = dj > 0 ? j + 1 : j;
+    const std::uint32_t* row = t_.block + block0 + static_cast<std::uint32_t>(j) * n_blocks;
+    const std::int32_t row_step = dj * static_cast<std::int32_t>(n_blocks);
+    const std::uint32_t last_block = n_blocks - 1u;
     float best = detail::GridRay::kNever;
-    float ta = 0.0f;
     const float kU = static_cast<float>(kLaneKeyUnitsPerCell);
-    for (std::int32_t n = 0; n < lanes + 2 && j >= 0 && j < lanes; ++n) {
+    // Key units at t: (u0 + t cd) 16; the first candidate of a lane is 1.5 cells (a square's extent) + 1 unit back.
+    const float k0 = u0 * kU, kd = cd * kU;
+    float ka = k0 - (1.5f * kU + 1.0f);
+    for (std::int32_t n = 0; n < lanes + 2; ++n) {
       float tb = t_end;
-      if (drift) {
-        const float tl = (static_cast<float>(sd > 0.0f ? j + 1 : j) - s0) * inv_sd;
+      if (dj != 0) {
+        const float tl = (static_cast<float>(edge) - s0) * inv_sd;
         if (tl < tb) tb = tl;
       }
-      // First candidate that can be entered after ta: a square spans at most sqrt(2) cells along u. The block
-      // index gives the first entry of the key's block; a few steps reach the key.
-      const float ua = (u0 + ta * cd - 1.5f) * kU - 1.0f;
-      const std::int32_t key_lo = ua > 0.0f ? static_cast<std::int32_t>(ua) : 0;
+      const std::int32_t key_lo = ka > 0.0f ? static_cast<std::int32_t>(ka) : 0;
       std::uint32_t blk = static_cast<std::uint32_t>(key_lo) >> t_.block_shift;
-      if (blk >= n_blocks) blk = n_blocks - 1u;
-      const LaneEntry* e = t_.entry + t_.block[block0 + static_cast<std::uint32_t>(j) * n_blocks + blk];
+      if (blk > last_block) blk = last_block;
+      const LaneEntry* e = t_.entry + row[blk];
       // Bounded by the lane's sentinel, whose key is above every key_lo and key_hi (keys < 16 x 4095 + 1).
       while (static_cast<std::int32_t>(e->key) < key_lo) ++e;
       float t_lim = tb < best ? tb : best;
-      std::int32_t key_hi = static_cast<std::int32_t>((u0 + t_lim * cd) * kU) + 1;
+      std::int32_t key_hi = static_cast<std::int32_t>(k0 + t_lim * kd) + 1;
       for (; static_cast<std::int32_t>(e->key) <= key_hi; ++e) {
         const float te = enter(r, *e);
-        if (te < best) {
+        if (te < t_lim) {
           best = te;
-          if (best < t_lim) {
-            t_lim = best;
-            key_hi = static_cast<std::int32_t>((u0 + t_lim * cd) * kU) + 1;
-          }
+          t_lim = te;
+          key_hi = static_cast<std::int32_t>(k0 + t_lim * kd) + 1;
+        } else if (te < best) {
+          best = te;  // entered beyond this lane's segment: a bound for the next lanes
         }
       }
       if (best <= tb || !(tb < t_end)) break;
-      ta = tb;
-      j += sd > 0.0f ? 1 : -1;
+      j += dj;
+      if (j < 0 || j >= lanes) break;
+      edge += dj;
+      row += row_step;
+      ka = k0 + tb * kd - (1.5f * kU + 1.0f);
     }
     if (!(best < r.t_max)) return max_range;
     return detail::cells_to_range(best > 0.0f ? best : 0.0f, grid_.resolution(), max_range);
