@@ -63,7 +63,7 @@ inline float lane_max(float a, float b) { return a > b ? a : b; }
 
 enum class LaneRayCasterStatus : std::uint8_t {
   ok = 0,
-  bad_grid,      // empty or invalid grid, or a side above 65535 cells or a diagonal above 4095 cells
+  bad_grid,      // empty or invalid grid, or W + H >= 4000 cells (the uint16 keys)
   bad_bins,      // T is not a power of two in [4, the storage's T]
   too_many_lanes,
   too_many_entries,  // also: one lane of more than 65535 entries
@@ -159,11 +159,13 @@ class LaneRayCaster {
         const float tl = (static_cast<float>(edge) - s0) * inv_sd;
         if (tl < tb) tb = tl;
       }
+      // u <= W + H < 4000 cells on the map (build() refuses larger maps), t <= t_end: key_lo and key_hi stay below
+      // 64 000, and the sentinel (65 535) ends both scans.
       const std::int32_t key_lo = ka > 0.0f ? static_cast<std::int32_t>(ka) : 0;
       std::uint32_t blk = static_cast<std::uint32_t>(key_lo) >> t_.block_shift;
       if (blk > last_block) blk = last_block;
       const LaneEntry* e = t_.entry + row[blk];
-      // Bounded by the lane's sentinel, whose key is above every key_lo and key_hi (keys < 16 x 4095 + 1).
+      // Bounded by the lane's sentinel, whose key is above every key_lo and key_hi (keys < 64 000).
       while (static_cast<std::int32_t>(e->key) < key_lo) ++e;
       float t_lim = tb < best ? tb : best;
       std::int32_t key_hi = static_cast<std::int32_t>(k0 + t_lim * kd) + 1;
@@ -249,7 +251,7 @@ class LaneRayCasterBuffer {
     bins_ = 0;
     if (!grid.valid() || grid.width() > 65535 || grid.height() > 65535) return LaneRayCasterStatus::bad_grid;
     const float fw = static_cast<float>(grid.width()), fh = static_cast<float>(grid.height());
-    if (fw + fh >= 4095.0f) return LaneRayCasterStatus::bad_grid;  // |u| < W + H must fit the uint16 key
+    if (fw + fh >= 4000.0f) return LaneRayCasterStatus::bad_grid;  // u <= W + H: 16 u must fit the uint16 key
     if (bins < 4 || bins > cap_bins_ || (bins & (bins - 1)) != 0) return LaneRayCasterStatus::bad_bins;
     if (block_cells < 4 || block_cells > 1024 || (block_cells & (block_cells - 1)) != 0)
       return LaneRayCasterStatus::bad_block;
