@@ -558,22 +558,41 @@ TEST_CASE("record writes each robot's motion stream on its channel: encoder tick
   }
 }
 
+namespace {
+struct ReplayCase {
+  sim::RobotKind robot;
+  node::RangeModel range_model;
+  node::BeamCast beam_cast;
+};
+}  // namespace
+
 TEST_CASE("estimator_node's replay of a recorded run gives the simulator's estimates, bit for bit", "[simulate]") {
   // One composition: sim_host runs the estimator pipeline in process; estimator_node, given the options the
   // record sidecar names, runs the same pipeline on the recorded log. Without faults (a replay takes each message's
   // stamp as the HAL's clock, so staleness is not replayed) the two publish the same estimates, bit for bit.
+  // Every model with the likelihood field, and the beam model with each of its casts (its options in the sidecar).
   TempDir dir("replay");
-  for (const sim::RobotKind robot : kModelsUnderTest) {
-    INFO("robot " << sim::to_string(robot));
+  std::vector<ReplayCase> cases;
+  for (const sim::RobotKind robot : kModelsUnderTest)
+    cases.push_back({robot, node::RangeModel::likelihood_field, node::BeamCast::table});
+  cases.push_back({sim::RobotKind::velocity, node::RangeModel::beam, node::BeamCast::table});
+  cases.push_back({sim::RobotKind::velocity, node::RangeModel::beam, node::BeamCast::lanes});
+  for (const ReplayCase& c : cases) {
+    const sim::RobotKind robot = c.robot;
+    INFO("robot " << sim::to_string(robot) << ", " << node::to_string(c.range_model) << " range model, "
+                  << node::to_string(c.beam_cast) << " cast");
     sim::ScenarioConfig sc = short_scenario(robot, 6);
     sc.duration_s = 4.0;
     sc.faults = {};
     sc.burst_at_s = -1.0;
     sim::FilterOptions fo = tracking_filter();
     fo.particles = 300;
+    fo.range_model = c.range_model;
+    fo.beam_cast = c.beam_cast;
     const sim::SimWorld world = sim::load_world(sc);
     const sim::SimResult r = sim::run_simulation(sc, fo, world);
-    const std::string log = (dir.path / (std::string(sim::to_string(robot)) + ".lcmlog")).string();
+    const std::string log = (dir.path / (std::string(sim::to_string(robot)) + "-" + node::to_string(c.range_model) +
+                                         "-" + node::to_string(c.beam_cast) + ".lcmlog")).string();
     const sim::RecordSummary summary = sim::record_lcm_log(r.stream, log);
     // The options of this run's estimator (the sidecar's, node::command_line, are those of a default tracking
     // filter).

@@ -298,6 +298,7 @@ node::EstimatorSpec estimator_spec(const ScenarioConfig& sc, const FilterOptions
   e.model = sc.robot;
   e.filter = fo.filter;
   e.range_model = fo.range_model;
+  e.beam_cast = fo.beam_cast;
   e.motion = robot_models().filter;
   if (!fo.omni_noise.empty()) {
     if (fo.omni_noise.size() != 9) throw std::invalid_argument("the omni model's noise is a1..a9: nine numbers");

@@ -43,12 +43,17 @@ class BeamBearingsBuffer {
   // K atan2, once per scan. False (and an empty view) when the scan has more beams than the capacity or the table
   // is invalid.
   bool prepare(const ScanBeams& z, const HeadingRangeTable& table) {
+    return table.valid() ? prepare(z, table.bins()) : prepare(z, 0);
+  }
+  // The same for any structure of `bins` headings 2 pi b / bins (e.g. LaneRayCaster); false when bins <= 0.
+  bool prepare(const ScanBeams& z, std::int32_t bins) {
     count_ = 0;
     bins_ = 0;
-    if (z.count > capacity_ || !table.valid()) return false;
-    for (std::int32_t k = 0; k < z.count; ++k) bins_of_beam_[k] = fmath::atan2(z.uy[k], z.ux[k]) * table.bins_per_rad();
+    if (z.count > capacity_ || bins <= 0) return false;
+    const float bins_per_rad = static_cast<float>(bins) / kTwoPi;
+    for (std::int32_t k = 0; k < z.count; ++k) bins_of_beam_[k] = fmath::atan2(z.uy[k], z.ux[k]) * bins_per_rad;
     count_ = z.count;
-    bins_ = table.bins();
+    bins_ = bins;
     return true;
   }
   BeamBearings view() const { return {bins_of_beam_, count_, bins_}; }
