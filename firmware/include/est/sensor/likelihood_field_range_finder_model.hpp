@@ -7,10 +7,10 @@
 // as a parameter only so the weights can be checked to sum to 1.
 //
 // The per-beam log term depends on dist only, so it is tabulated at configure() over the quantized distance
-// (kLikelihoodFieldTableSize floats, 4 KiB; distances coarsened by powers of two when max_distance needs more
-// entries, error then at most half a bucket). A particle-beam costs 4 multiply-adds, one distance lookup and one
-// table lookup: no transcendental. Each term is >= log(z_rand / z_max) > -inf when z_rand > 0, and floored at
-// kBeamLogDensityFloor otherwise.
+// (kLikelihoodFieldTableSize floats, 4 KiB, and as many quantized uint16, 2 KiB; distances coarsened by powers of
+// two when max_distance needs more entries, error then at most half a bucket). A particle-beam costs 4 multiplies
+// and 4 adds, one distance lookup and one table lookup: no transcendental. Each term is >= log(z_rand / z_max) > -inf
+// when z_rand > 0, and floored at kBeamLogDensityFloor otherwise.
 //
 // QUANTIZED SUM. The model sums the terms as integers: each term is stored as q = round((T0 - term) 256), its
 // distance below the largest term T0 = log_term_max() in steps of 1/256 nat (uint16), and a scan's log-likelihood is
