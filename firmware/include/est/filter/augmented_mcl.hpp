@@ -257,11 +257,12 @@ class AugmentedMcl {
   bool resample(const Injector& draw, bool force = false) {
     ParticleSetView v = set_.view();
     if (v.count == 0u) return false;
-    // The last correction's ESS when the weights have not changed since (the same bits, one exp pass fewer).
-    const float ess = ess_valid_ ? last_ess_ : effective_sample_size(v.log_w, v.count);
+    // The ESS only when it decides (not when forced), and the last correction's when the weights have not changed
+    // since (the same bits, one exp pass fewer).
     const float p_inject = injection_probability();
     if (!force && !force_recovery_ && p_inject <= 0.0f &&
-        ess >= config_.resample_ess_fraction * static_cast<float>(v.count))
+        (ess_valid_ ? last_ess_ : effective_sample_size(v.log_w, v.count)) >=
+            config_.resample_ess_fraction * static_cast<float>(v.count))
       return false;
 
     // Random poses go to the scratch set's tail first (the front is the low-variance sampler's).
