@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -78,14 +79,45 @@ TEST_CASE("the batched likelihood field equals the scalar model bit for bit, par
   }
 }
 
-TEST_CASE("the per-cell table is refused for a map larger than its storage, and costs 4 bytes per cell",
+TEST_CASE("the per-cell table is refused for a map larger than its storage, and costs 2 bytes per padded cell",
           "[likelihood_field_grid]") {
   est::sim::make_office_map(g_grid);
   REQUIRE(g_edt.build(g_grid.grid()) == est::MapStatus::ok);
   REQUIRE(g_field.configure({}, g_grid.grid(), g_edt.view()) == est::SensorModelStatus::ok);
   static est::LikelihoodFieldGridStorage<100, 100> small;
   CHECK(small.build(g_field, g_grid.grid()) == est::MapStatus::too_large);
-  CHECK(est::LikelihoodFieldGridStorage<400, 300>::kBytes == 480000u);
+  CHECK(est::LikelihoodFieldGridStorage<400, 300>::kBytes == 2u * 402u * 302u);
   est::LikelihoodField unconfigured;
   CHECK(g_table.build(unconfigured, g_grid.grid()) == est::MapStatus::empty);
+}
+
+TEST_CASE("the quantized terms are within half a step of the field's float terms, and the pad is the outside term",
+          "[likelihood_field_grid]") {
+  est::sim::make_office_map(g_grid);
+  REQUIRE(g_edt.build(g_grid.grid()) == est::MapStatus::ok);
+  REQUIRE(g_field.configure({}, g_grid.grid(), g_edt.view()) == est::SensorModelStatus::ok);
+  REQUIRE(g_table.build(g_field, g_grid.grid()) == est::MapStatus::ok);
+  const est::LikelihoodFieldGrid v = g_table.view();
+  const est::OccupancyGrid g = g_grid.grid();
+  const double peak = double(g_field.log_term_max());
+  double worst = 0.0;
+  for (std::int32_t cy = 0; cy < g.height(); cy += 3)
+    for (std::int32_t cx = 0; cx < g.width(); cx += 3) {
+      const double term = double(g_field.log_term_at(g.cell_center_x(cx), g.cell_center_y(cy)));
+      const double q = peak - double(v.cells()[static_cast<std::uint32_t>(cy + 1) * v.stride() +
+                                               static_cast<std::uint32_t>(cx + 1)]) / 256.0;
+      worst = std::max(worst, std::fabs(q - term));
+    }
+  CHECK(worst <= 1.0 / 512.0 + 1e-6);
+  const std::uint16_t outside = v.cells()[0];
+  CHECK(double(peak - outside / 256.0) ==
+        Approx(double(g_field.log_term_at(g.origin_x() - 1.0f, g.origin_y() - 1.0f))).margin(1.0 / 512.0 + 1e-6));
+  for (std::uint32_t ix = 0; ix < v.stride(); ++ix) {
+    CHECK(v.cells()[ix] == outside);
+    CHECK(v.cells()[(v.rows() - 1u) * v.stride() + ix] == outside);
+  }
+  for (std::uint32_t iy = 0; iy < v.rows(); ++iy) {
+    CHECK(v.cells()[iy * v.stride()] == outside);
+    CHECK(v.cells()[iy * v.stride() + v.stride() - 1u] == outside);
+  }
 }

@@ -97,14 +97,18 @@ TEST_CASE("likelihood field scan log-likelihood skips max readings and prefers t
   const est::ScanBeams b = g_scan.beams();
   REQUIRE(g_scan.counters().max_readings > 0);  // the 6 m cap leaves some beams without return
   double by_hand = 0.0;
+  int hits = 0;
   for (int k = 0; k < b.count; ++k) {
     if (b.is_max[k]) continue;
     const float ex = f.x + b.range[k] * (f.c * b.ux[k] - f.s * b.uy[k]);
     const float ey = f.y + b.range[k] * (f.s * b.ux[k] + f.c * b.uy[k]);
     by_hand += double(g_field.log_term_at(ex, ey));
+    ++hits;
   }
   const float l = est::likelihood_field_range_finder_model(b, truth, mount, g_field);
-  CHECK(double(l) == Approx(by_hand).epsilon(1e-6));
+  // The model sums terms quantized to 1/256 nat (each within 1/512 of the float term) at end points computed in
+  // cell units (a cell boundary may fall the other way): within half a step per beam, and a few boundary beams.
+  CHECK(std::fabs(double(l) - by_hand) <= hits / 512.0 + 0.05);
   CHECK(l > est::likelihood_field_range_finder_model(b, {11.2f, 4.0f, -2.0f}, mount, g_field) + 10.0f);
   CHECK(l > est::likelihood_field_range_finder_model(b, {11.0f, 4.0f, -1.9f}, mount, g_field) + 10.0f);
   const int not_max = b.count - g_scan.counters().max_readings;

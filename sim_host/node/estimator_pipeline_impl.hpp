@@ -24,12 +24,12 @@ namespace node::detail {
 
 // Heap-backed owners of the firmware's runtime-capacity buffers: on the host the map decides their size.
 struct FieldCells {
-  std::vector<float> cells;
+  std::vector<std::uint16_t> cells;
 };
 class HeapFieldGrid : private FieldCells, public est::LikelihoodFieldGridBuffer {
  public:
   HeapFieldGrid(std::int32_t w, std::int32_t h)
-      : FieldCells{std::vector<float>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h))},
+      : FieldCells{std::vector<std::uint16_t>(est::LikelihoodFieldGridBuffer::cells_for(w, h))},
         LikelihoodFieldGridBuffer(cells.data(), w, h) {}
 };
 struct TableUnits {

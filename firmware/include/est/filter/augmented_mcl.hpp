@@ -257,10 +257,12 @@ class AugmentedMcl {
   bool resample(const Injector& draw, bool force = false) {
     ParticleSetView v = set_.view();
     if (v.count == 0u) return false;
-    const float ess = effective_sample_size(v.log_w, v.count);
+    // The ESS only when it decides (not when forced), and the last correction's when the weights have not changed
+    // since (the same bits, one exp pass fewer).
     const float p_inject = injection_probability();
     if (!force && !force_recovery_ && p_inject <= 0.0f &&
-        ess >= config_.resample_ess_fraction * static_cast<float>(v.count))
+        (ess_valid_ ? last_ess_ : effective_sample_size(v.log_w, v.count)) >=
+            config_.resample_ess_fraction * static_cast<float>(v.count))
       return false;
 
     // Random poses go to the scratch set's tail first (the front is the low-variance sampler's).
@@ -292,6 +294,7 @@ class AugmentedMcl {
     const float lw = -fmath::log(static_cast<float>(m));
     for (std::uint32_t k = 0; k < m; ++k) out.log_w[k] = lw;
     set_.swap_with_scratch(m);
+    ess_valid_ = false;
     ++counters_.resamplings;
     counters_.drawn_particles += m;
     counters_.injected_particles += n_inject;
@@ -322,7 +325,10 @@ class AugmentedMcl {
   }
 
   ConstParticleSetView particles() const { return set_.view(); }
-  ParticleSetView particles_mutable() { return set_.view(); }
+  ParticleSetView particles_mutable() {
+    ess_valid_ = false;  // the caller may change the weights
+    return set_.view();
+  }
   const MclCounters& counters() const { return counters_; }
   const MclConfig& config() const { return config_; }
   Rng& rng() { return rng_; }
@@ -346,6 +352,7 @@ class AugmentedMcl {
       }
     }
     if (penalized > 0u) {
+      ess_valid_ = false;
       counters_.map_penalized += penalized;
       normalize_log_weights(v.log_w, v.count);
     }
@@ -372,7 +379,7 @@ class AugmentedMcl {
     float* cdf = out.log_w;
     float c = 0.0f;
     for (std::uint32_t i = 0; i < v.count; ++i) {
-      c += fmath::exp(v.log_w[i]);
+      c += imath::exp(v.log_w[i]);
       cdf[i] = c;
     }
     kld_.start(config_.kld_config, NMax);
@@ -408,6 +415,8 @@ class AugmentedMcl {
     ++counters_.corrections;
     counters_.nonfinite_weights += n.nonfinite;
     CorrectionReport r{n.log_sum, effective_sample_size(v.log_w, v.count), n.degenerate, n.log_sum};
+    last_ess_ = r.ess;
+    ess_valid_ = true;
     if (n.degenerate) {
       ++counters_.degenerate_corrections;
       force_recovery_ = true;  // nothing explains z: the next resampling injects as many particles as allowed
@@ -430,7 +439,7 @@ class AugmentedMcl {
     // The gate of line 13 (header). A find: the random particles of the last injection took most of the weight, or
     // the scan fits much better than the recent ones (a hypothesis found a scan or two ago took over).
     float w_random = 0.0f;
-    for (std::uint32_t i = random_begin_; i < random_end_ && i < v.count; ++i) w_random += fmath::exp(v.log_w[i]);
+    for (std::uint32_t i = random_begin_; i < random_end_ && i < v.count; ++i) w_random += imath::exp(v.log_w[i]);
     bool jumped = false;
     if (random_end_ > random_begin_ && random_begin_ > 0u && random_end_ <= v.count) {
       // The belief before this scan (the resampled part, equal weights) against the posterior: a jump of the mean.
@@ -440,7 +449,7 @@ class AugmentedMcl {
         by += v.y[i];
       }
       for (std::uint32_t i = 0; i < v.count; ++i) {
-        const float w = fmath::exp(v.log_w[i]);
+        const float w = imath::exp(v.log_w[i]);
         px += w * v.x[i];
         py += w * v.y[i];
       }
@@ -477,6 +486,7 @@ class AugmentedMcl {
   }
 
   void reset_averages() {
+    ess_valid_ = false;
     averages_valid_ = false;
     force_recovery_ = false;
     mild_run_ = 0;
@@ -525,6 +535,8 @@ class AugmentedMcl {
   bool averages_valid_ = false;
   bool per_beam_ = false;
   bool force_recovery_ = false;
+  float last_ess_ = 0.0f;  // the ESS of the weights as the last correction left them, while ess_valid_
+  bool ess_valid_ = false;
 };
 
 }  // namespace est

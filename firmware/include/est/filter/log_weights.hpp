@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "est/math/fmath.hpp"
+#include "est/math/inline_exp.hpp"
 #include "est/math/normal.hpp"
 
 namespace est {
@@ -37,7 +38,7 @@ inline LogNormalization normalize_log_weights(float* log_w, std::uint32_t n) {
     return r;
   }
   float sum = 0.0f;
-  for (std::uint32_t i = 0; i < n; ++i) sum += fmath::exp(log_w[i] - max_lw);
+  for (std::uint32_t i = 0; i < n; ++i) sum += imath::exp(log_w[i] - max_lw);  // fmath::exp's bits, inline
   // (lw - max) is exact for nearby weights (Sterbenz), so normalized weights keep float's relative precision even
   // when every log weight is around -1000; subtracting the rounded log_sum instead would not.
   const float log_sum_rel = fmath::log(sum);
@@ -50,7 +51,7 @@ inline LogNormalization normalize_log_weights(float* log_w, std::uint32_t n) {
 inline float effective_sample_size(const float* log_w, std::uint32_t n) {
   float s = 0.0f;
   for (std::uint32_t i = 0; i < n; ++i) {
-    const float w = fmath::exp(log_w[i]);
+    const float w = imath::exp(log_w[i]);  // fmath::exp's bits, inline
     s += w * w;
   }
   return s > 0.0f ? 1.0f / s : 1.0f;

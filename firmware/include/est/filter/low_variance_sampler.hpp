@@ -5,6 +5,7 @@
 
 #include "est/filter/particle_set.hpp"
 #include "est/math/fmath.hpp"
+#include "est/math/inline_exp.hpp"
 #include "est/random/xoshiro128.hpp"
 
 namespace est {
@@ -24,7 +25,7 @@ inline std::uint32_t low_variance_sampler(ConstParticleSetView in, ParticleSetVi
     // Rounding can leave the cumulative sum just short of 1: the last particle absorbs it.
     while (u > c && i + 1u < in.count) {
       ++i;
-      c += fmath::exp(in.log_w[i]);
+      c += imath::exp(in.log_w[i]);  // fmath::exp's bits, inline
     }
     out.x[k] = in.x[i];
     out.y[k] = in.y[i];

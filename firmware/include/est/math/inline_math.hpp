@@ -76,6 +76,9 @@ inline float wrap_angle_near(float a) {
 
 // c ? a : b by bit masks: a select GCC vectorizes even where it would not speculate the arithmetic producing a.
 inline float select(bool c, float a, float b) {
+#if defined(__arm__)
+  return c ? a : b;  // Cortex-M: a conditional move (it + vmov), cheaper than the masks through core registers
+#else
   std::uint32_t ua = 0, ub = 0;
   std::memcpy(&ua, &a, sizeof ua);
   std::memcpy(&ub, &b, sizeof ub);
@@ -84,6 +87,7 @@ inline float select(bool c, float a, float b) {
   float out = 0.0f;
   std::memcpy(&out, &r, sizeof out);
   return out;
+#endif
 }
 
 inline float log_normal_positive(float x) {

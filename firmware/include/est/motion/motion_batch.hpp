@@ -1,10 +1,10 @@
 #pragma once
 // Motion sampling for a whole particle set at once: x_i ~ p(x | u, x_i) for every particle, as Model::sample does
-// one particle at a time, but with the noise drawn in bulk (fill_standard_normals: Box-Muller pairs, both halves
-// used) and the arc evaluated with inline trigonometry (est/math/inline_math.hpp). The same distribution as the
-// model's own sampler, NOT the same bits (different normal draws; kernels within 2 ULP of fmath): the particle
-// filter's batched prediction (AugmentedMcl::predict_batch) uses it; tests/test_motion_batch.cpp compares the two
-// samplers' distributions (two-sample KS).
+// one particle at a time, but with the noise drawn in bulk (fill_standard_normals: the inverse CDF by a table, one
+// uniform per value) and the arc evaluated with inline trigonometry (est/math/inline_math.hpp). The same
+// distribution as the model's own sampler, NOT the same bits (different normal draws; kernels within 2 ULP of
+// fmath): the particle filter's batched prediction (AugmentedMcl::predict_batch) uses it;
+// tests/test_motion_batch.cpp compares the two samplers' distributions (two-sample KS).
 //
 // Models without a batched form fall back to their own sampler, one particle at a time (the generic overload).
 // Noise buffers: three arrays of n floats (MCL passes its idle scratch set). Non-finite particles and angles beyond
@@ -77,7 +77,10 @@ inline void sample_motion_batch(const BicycleMotionModel&, const BicycleControl&
   fill_standard_normals(rng, noise.b, n);
   fill_standard_normals(rng, noise.c, n);
   const float a_cmd = bicycle_detail::clamp_steer(u.steer, p.steer_max);
-  const float a_max = p.steer_max;
+  // min(a_max, pi/4); -1 (no particle takes the first pass) unless every final rotation keeps the heading's one
+  // wrap valid: |theta + 2h + gamma| < 3 pi for |theta| <= pi, |2h| < 0.2 and |gamma| <= sigma kNormalBatchMax.
+  const bool gamma_bounded = p.final_rot_sigma * kNormalBatchMax < 2.0f * kPi - 0.2f;
+  const float a_fast = !gamma_bounded ? -1.0f : p.steer_max < 0.7853981f ? p.steer_max : 0.7853981f;
   const float v_sigma = bicycle_detail::speed_sigma(u.v, p);
   const float half_dt_over_l = 0.5f * p.dt / p.frame_length;
   const float done = __builtin_nanf("");
@@ -88,30 +91,31 @@ inline void sample_motion_batch(const BicycleMotionModel&, const BicycleControl&
   const float* __restrict nb = noise.b;
   const float* __restrict nc = noise.c;
   const float steer_sigma = p.steer_sigma, rot_sigma = p.final_rot_sigma, dt = p.dt, v_cmd = u.v;
+  std::uint32_t pending = 0;  // particles the first pass left to the second
   for (std::uint32_t i = 0; i < n; ++i) {
-    const float a_raw = a_cmd + steer_sigma * na[i];
-    const float a = imath::select(a_raw > a_max, a_max, imath::select(a_raw < -a_max, -a_max, a_raw));
+    // Inside the stops the steering is a_raw itself (no fold), and sin a is the kernel alone (one polynomial, no
+    // quadrant logic) where |a| <= pi/4, every steering a car's stops allow in practice; the rest: the second pass.
+    const float a = a_cmd + steer_sigma * na[i];
     const float v = v_cmd + v_sigma * nb[i];
     const float gamma = rot_sigma * nc[i];
     const float th = pt[i];
-    // sin a = 2 sin(a/2) cos(a/2), with |a/2| < pi/4 inside the kernels' range: no quadrant logic, which GCC
-    // (knowing |a| <= a_max) would turn into branches here.
-    const float sa = 2.0f * imath::sin_kernel(0.5f * a) * imath::cos_kernel(0.5f * a);
+    const float sa = imath::sin_kernel(a);
     const float h = v * sa * half_dt_over_l;
-    const bool ok =
-        (a == a_raw) & (fmath::abs(h) < arc::kSeriesBelow) & (fmath::abs(th) <= kPi) & (fmath::abs(gamma) <= kPi);
+    const bool ok = (fmath::abs(a) <= a_fast) & (fmath::abs(h) < arc::kSeriesBelow) & (fmath::abs(th) <= kPi);
     const float h2 = h * h;
     const float chord = v * dt * (1.0f - h2 * (1.0f / 6.0f) + h2 * h2 * (1.0f / 120.0f));  // arc::sinc's series
     float sn = 0.0f, cs = 0.0f;
     imath::sincos_moderate(imath::select(ok, th + a + h, 0.0f), sn, cs);
-    const float t = imath::wrap_angle_near((th + 2.0f * h) + gamma);  // |.| < 2.1 pi: one wrap suffices
+    const float t = imath::wrap_angle_near((th + 2.0f * h) + gamma);  // |.| < 3 pi (a_fast): one wrap suffices
     px[i] = imath::select(ok, px[i] + chord * cs, px[i]);
     py[i] = imath::select(ok, py[i] + chord * sn, py[i]);
     pt[i] = imath::select(ok, t, th);
     na[i] = imath::select(ok, done, na[i]);
+    pending += ok ? 0u : 1u;
   }
-  for (std::uint32_t i = 0; i < n; ++i) {
+  for (std::uint32_t i = 0; i < n && pending > 0u; ++i) {  // none left: no second pass
     if (na[i] != na[i]) continue;  // moved by the first pass
+    --pending;
     const float a = bicycle_detail::fold_steer(a_cmd + p.steer_sigma * na[i], p.steer_max);
     const float v = u.v + v_sigma * nb[i];
     const float gamma = p.final_rot_sigma * nc[i];
@@ -141,6 +145,7 @@ inline void sample_motion_batch(const DiffDriveMotionModel&, const DiffDriveCont
   float* __restrict na = noise.a;
   const float* __restrict nb = noise.b;
   const float* __restrict nc = noise.c;
+  std::uint32_t pending = 0;  // particles the first pass left to the second
   for (std::uint32_t i = 0; i < n; ++i) {
     const float left = d.left + sl * na[i];
     const float right = d.right + sr * nb[i];
@@ -153,14 +158,16 @@ inline void sample_motion_batch(const DiffDriveMotionModel&, const DiffDriveCont
     const float chord = s * (1.0f - h2 * (1.0f / 6.0f) + h2 * h2 * (1.0f / 120.0f));  // arc::sinc's series
     float sn = 0.0f, cs = 0.0f;
     imath::sincos_moderate(imath::select(ok, th + h, 0.0f), sn, cs);
-    const float t = imath::wrap_angle_near((th + 2.0f * h) + gamma);  // |.| < 2.1 pi: one wrap suffices
+    const float t = imath::wrap_angle_near((th + 2.0f * h) + gamma);  // |.| < 3 pi (a_fast): one wrap suffices
     px[i] = imath::select(ok, px[i] + chord * cs, px[i]);
     py[i] = imath::select(ok, py[i] + chord * sn, py[i]);
     pt[i] = imath::select(ok, t, th);
     na[i] = imath::select(ok, done, na[i]);
+    pending += ok ? 0u : 1u;
   }
-  for (std::uint32_t i = 0; i < n; ++i) {
+  for (std::uint32_t i = 0; i < n && pending > 0u; ++i) {  // none left: no second pass
     if (na[i] != na[i]) continue;
+    --pending;
     const float left = d.left + sl * na[i];
     const float right = d.right + sr * nb[i];
     const float gamma = p.final_rot_sigma * nc[i];
