@@ -290,8 +290,7 @@ struct Node::Impl {
     catch_stop_signals();
     if (!c.view_wait) return;
     std::fprintf(stderr, "estimator_node: waiting for a viewer\n");
-    while (view->subscribers() == 0 && g_stop_signal.load() == 0)
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    node::wait_for_viewer(*view, [] { return g_stop_signal.load() != 0; });
   }
 
   hal::lcm::InputConfig lcm_input_config(unsigned counter_bits) const {

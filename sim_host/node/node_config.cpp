@@ -2,6 +2,7 @@
 #include "node/node_config.hpp"
 
 #include "node/estimator_pipeline.hpp"
+#include "node/view_feed.hpp"
 
 #include <cmath>
 #include <map>
@@ -140,17 +141,8 @@ void add_options(CLI::App& app, NodeConfig& c) {
       ->capture_default_str()->check(CLI::NonNegativeNumber)->group(io);
   app.add_flag("--quiet", c.quiet, "no summary on stderr at the end")->group(io);
 
-  const char* view = "Live view";
-  app.add_option("--view", c.view_port,
-                 "serve a live view on 127.0.0.1:PORT (0: off): the Foxglove WebSocket protocol (connect Foxglove "
-                 "Studio to ws://localhost:PORT: the map, truth, particles, estimate with its 2-sigma ellipse, status) "
-                 "and a page drawing the same at http://localhost:PORT/")
-      ->capture_default_str()->group(view);
-  app.add_flag("--view-wait", c.view_wait, "replay: start once a viewer has subscribed (needs --view)")->group(view);
-  app.add_option("--replay-speed", c.replay_speed,
-                 "replay pacing by the log's receive times: 0 as fast as possible, 1 real time, 2 twice as fast "
-                 "(outputs unchanged, bit for bit); default 0, or 1 with --view")
-      ->check(CLI::NonNegativeNumber)->group(view);
+  add_view_options(app, c.view_port, c.view_wait, c.replay_speed,
+                   "the map, truth, particles, estimate with its 2-sigma ellipse, status");
 
   const char* robot = "Robot: the motion model and its inputs";
   add_choice(app, "--model", e.model, {"velocity", "odometry", "bicycle", "diff-drive", "omni", "holonomic"},
@@ -360,7 +352,7 @@ void finish_options(const CLI::App& app, NodeConfig& c) {
   if (c.view_wait && (c.view_port == 0 || !c.replay()))
     throw CLI::ValidationError("--view-wait", "needs --view PORT and a replay");
   if (app.count("--replay-speed") > 0 && !c.replay()) throw CLI::ValidationError("--replay-speed", "needs a replay");
-  if (c.replay_speed < 0.0) c.replay_speed = c.view_port != 0 ? 1.0 : 0.0;
+  c.replay_speed = replay_speed_default(c.replay_speed, c.view_port);
   if (c.can_out && c.can_interface.empty()) throw CLI::ValidationError("--can-out", "needs --can IFACE");
   if (app.count("--stamps") > 0 && !c.lcm_input) throw CLI::ValidationError("--stamps", "needs --lcm URL (live)");
   if (app.count("--live-speed") > 0 && (!c.lcm_input || !c.can_interface.empty()))

@@ -4,16 +4,21 @@
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
 #include <stdexcept>
 
+#include <est_lcm/ground_truth_t.hpp>
 #include <est_lcm/pose_estimate_t.hpp>
 
 #include "hal/lcm/lcm_backend.hpp"
 #include "hal/lcm/lcm_guard.hpp"
 #include "hal/team/lcm.hpp"
 #include "hal/team/validator.hpp"
+#include "node/pacer.hpp"
+#include "node/view_feed.hpp"
+#include "view/live_view.hpp"
 
 namespace node {
 
@@ -40,6 +45,7 @@ double now_s() {
 
 std::string own_team_channel(std::int32_t robot_id) { return "EST_TEAM_OWN_" + std::to_string(robot_id); }
 std::string team_pose_channel(std::int32_t robot_id) { return "EST_POSE_" + std::to_string(robot_id); }
+std::string team_truth_channel(std::int32_t robot_id) { return "EST_GROUND_TRUTH_" + std::to_string(robot_id); }
 
 void add_team_node_options(CLI::App& app, TeamNodeConfig& c) {
   const char* g = "Team node (--filter coop-ekf)";
@@ -73,6 +79,8 @@ void add_team_node_options(CLI::App& app, TeamNodeConfig& c) {
          "FROM,TO: publish nothing for these steps (the robot falls silent to the team, then rejoins)")
       ->delimiter(',')->expected(2)->group(g);
   app.add_flag("--quiet", c.quiet, "no summary on stderr at the end")->group(g);
+  add_view_options(app, c.view_port, c.view_wait, c.replay_speed,
+                   "every robot's truth and estimate with its 2-sigma ellipse, the landmarks, the status");
   add_team_spec_options(app, c.spec);
 }
 
@@ -84,6 +92,9 @@ void finish_team_node_options(TeamNodeConfig& c) {
   }
   if (c.robot_id >= c.spec.estimator.robots) throw CLI::ValidationError("--robot-id", "outside the team");
   if (c.own_channel.empty()) c.own_channel = own_team_channel(c.robot_id);
+  if (c.view_wait && (c.view_port == 0 || c.replay_path.empty()))
+    throw CLI::ValidationError("--view-wait", "needs --view PORT and a replay");
+  c.replay_speed = replay_speed_default(c.replay_speed, c.view_port);
 }
 
 struct TeamNode::Impl {
@@ -100,6 +111,7 @@ struct TeamNode::Impl {
   double last_own_s = -1.0;
   std::string pose_channel;
   std::uint32_t poses_published = 0;
+  std::unique_ptr<view::LiveView> view;  // --view
 
   static hal::lcm::Channels channels(const TeamNodeConfig& c) {
     hal::lcm::Channels ch;
@@ -120,6 +132,26 @@ struct TeamNode::Impl {
     }
     lcm.subscribe(cfg.own_channel, &Impl::on_own, this);
     lcm.subscribe(cfg.team_channel, &Impl::on_team, this);
+    if (cfg.view_port != 0) {
+      view = std::make_unique<view::LiveView>(cfg.view_port, "estimator_node", cfg.spec.estimator.robots);
+      for (std::int32_t a = 0; a < cfg.spec.estimator.robots; ++a)
+        lcm.subscribe(team_truth_channel(a), &Impl::on_truth, this);
+      std::fprintf(stderr, "estimator_node coop-ekf: live view on http://localhost:%u/ (Foxglove: ws://localhost:%u)\n",
+                   unsigned{view->port()}, unsigned{view->port()});
+    }
+  }
+
+  // EST_GROUND_TRUTH_<a> to the view (a team run's log, or live when the simulator publishes it).
+  void on_truth(const ::lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+    const std::string prefix = "EST_GROUND_TRUTH_";
+    if (!view || channel.compare(0, prefix.size(), prefix) != 0) return;
+    char* end = nullptr;
+    const long a = std::strtol(channel.c_str() + prefix.size(), &end, 10);
+    if (end == nullptr || *end != '\0' || a < 0 || a >= cfg.spec.estimator.robots) return;
+    est_lcm::ground_truth_t g;
+    if (g.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0) return;
+    view->publish_team_truth(static_cast<int>(a), g.stamp_ns,
+                             {static_cast<double>(g.x_m), static_cast<double>(g.y_m), static_cast<double>(g.theta_rad)});
   }
 
   bool decode(const ::lcm::ReceiveBuffer* rbuf) {
@@ -134,14 +166,16 @@ struct TeamNode::Impl {
   void close(std::uint32_t seq, const est::team::TeamMessage* const* msgs) {
     est.step(seq, msgs);
     if (lines.is_open()) lines << team_estimate_line(seq, est) << "\n";
-    if (!cfg.replay_path.empty()) return;
-    // The own robot's estimate, at the step's stamp (its messages all carry it).
+    // The step's stamp (its messages all carry it).
     est_lcm::pose_estimate_t p{};
     for (std::int32_t a = 0; a < cfg.spec.estimator.robots; ++a)
       if (msgs[a] != nullptr) {
         p.stamp_ns = msgs[a]->stamp_ns;
         break;
       }
+    if (view) feed_team(*view, est, cfg.robot_id, p.stamp_ns);
+    if (!cfg.replay_path.empty()) return;
+    // The own robot's estimate.
     const auto& slam = est.slam();
     p.x_m = slam.robot(cfg.robot_id)(0);
     p.y_m = slam.robot(cfg.robot_id)(1);
@@ -159,10 +193,18 @@ struct TeamNode::Impl {
   void replay() {
     ::lcm::LogFile log(cfg.replay_path, "r");
     if (!log.good()) throw std::invalid_argument("cannot read the LCM log " + cfg.replay_path);
-    const std::string prefix = "EST_TEAM_OWN_";
+    const std::string prefix = "EST_TEAM_OWN_", truth = "EST_GROUND_TRUTH_";
+    Pacer pacer(cfg.replay_speed);  // with --view: the log's receive times, scaled
     while (const ::lcm::LogEvent* e = log.readNextEvent()) {
-      if (e->channel.compare(0, prefix.size(), prefix) != 0) continue;
+      if (g_stop != 0) break;
+      const bool is_truth = view && e->channel.compare(0, truth.size(), truth) == 0;
+      if (!is_truth && e->channel.compare(0, prefix.size(), prefix) != 0) continue;
+      pacer.at(e->timestamp * 1000);  // us
       ::lcm::ReceiveBuffer b{e->data, static_cast<std::uint32_t>(e->datalen), e->timestamp};
+      if (is_truth) {
+        on_truth(&b, e->channel);
+        continue;
+      }
       if (e->channel == cfg.own_channel)
         on_own(&b, e->channel);
       else
@@ -211,6 +253,10 @@ int TeamNode::run() {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   const double t0 = now_s();
+  if (m.view && m.cfg.view_wait) {
+    std::fprintf(stderr, "estimator_node coop-ekf: waiting for a viewer\n");
+    wait_for_viewer(*m.view, [] { return g_stop != 0; });
+  }
   if (!m.cfg.replay_path.empty())
     m.replay();
   else if (!m.cfg.quiet)
@@ -226,6 +272,7 @@ int TeamNode::run() {
   for (int i = 0; i < 10 && m.cfg.replay_path.empty(); ++i) m.lcm.handleTimeout(20);
   m.window.flush([&m](std::uint32_t seq, const est::team::TeamMessage* const* msgs) { m.close(seq, msgs); });
   m.lines.flush();
+  if (m.view) m.view->stop();
   if (!m.cfg.counts_path.empty()) {
     std::ofstream c(m.cfg.counts_path);
     const auto& w = m.window.counters();
@@ -263,6 +310,13 @@ void TeamNode::print_summary(std::FILE* f) const {
   const auto& c = m.est.slam().counters();
   std::fprintf(f, "\n  estimator: %u measurements fused, %u gated out, %u pending, %u refused otherwise\n",
                c.accepted, c.gated_out, c.pending, c.rejected() - c.gated_out);
+  if (m.view) {
+    const view::ViewCounters vc = m.view->counters();
+    std::fprintf(f, "  view: port=%u clients=%llu pages=%llu sent=%llu dropped_handoff=%llu dropped_slow=%llu\n",
+                 unsigned{m.view->port()}, static_cast<unsigned long long>(vc.clients),
+                 static_cast<unsigned long long>(vc.pages), static_cast<unsigned long long>(vc.messages_sent),
+                 static_cast<unsigned long long>(vc.dropped_handoff), static_cast<unsigned long long>(vc.dropped_slow));
+  }
 }
 
 }  // namespace node

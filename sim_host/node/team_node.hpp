@@ -7,7 +7,7 @@
 // estimate of its own robot on EST_POSE_<id> (pose_estimate_t; a point robot: heading 0). Nodes of a team that
 // receive the same messages write the same lines, bit for bit. Replay (--replay LOG, a team run's run.lcmlog): the
 // log's EST_TEAM_OWN_<id> as the own messages and every other EST_TEAM_OWN_<b> as the team's, in the log's order,
-// as fast as it goes, nothing published. Host only; throws std::invalid_argument on a bad configuration.
+// as fast as it goes (paced with --view), nothing published. Host only; throws std::invalid_argument on a bad configuration.
 #include <cstdint>
 #include <cstdio>
 #include <memory>
@@ -36,10 +36,16 @@ struct TeamNodeConfig {
   std::uint32_t silent_from = 0, silent_to = 0;  // steps [from, to] not published: the robot falls silent, rejoins
   std::uint64_t seed = 1;     // of the drops
   bool quiet = false;
+  // --view PORT: every robot's truth and estimate, the landmarks and the status (view/foxglove_json.hpp); a replay
+  // is then paced by the log's receive times (--replay-speed) and --view-wait holds it until a viewer subscribed.
+  std::uint16_t view_port = 0;
+  bool view_wait = false;
+  double replay_speed = -1.0;
 };
 
 std::string own_team_channel(std::int32_t robot_id);
 std::string team_pose_channel(std::int32_t robot_id);  // EST_POSE_<id>
+std::string team_truth_channel(std::int32_t robot_id);  // EST_GROUND_TRUTH_<id> (a team run's log)
 
 void add_team_node_options(CLI::App& app, TeamNodeConfig& c);
 void finish_team_node_options(TeamNodeConfig& c);  // throws CLI::ValidationError

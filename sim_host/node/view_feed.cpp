@@ -1,7 +1,29 @@
 // A live view fed from an estimator pipeline (node/view_feed.hpp).
 #include "node/view_feed.hpp"
 
+#include <CLI/CLI.hpp>
+#include <array>
+#include <chrono>
+#include <thread>
+
 namespace node {
+
+void add_view_options(CLI::App& app, std::uint16_t& port, bool& wait, double& speed, const std::string& what) {
+  const char* view = "Live view";
+  app.add_option("--view", port,
+                 "serve a live view on 127.0.0.1:PORT (0: off): the Foxglove WebSocket protocol (connect Foxglove "
+                 "Studio to ws://localhost:PORT: " + what + ") and a page drawing the same at http://localhost:PORT/")
+      ->capture_default_str()->group(view);
+  app.add_flag("--view-wait", wait, "replay: start once a viewer has subscribed (needs --view)")->group(view);
+  app.add_option("--replay-speed", speed,
+                 "replay pacing by the log's receive times: 0 as fast as possible, 1 real time, 2 twice as fast "
+                 "(outputs unchanged, bit for bit); default 0, or 1 with --view")
+      ->check(CLI::NonNegativeNumber)->group(view);
+}
+
+void wait_for_viewer(const view::LiveView& v, bool (*stopped)()) {
+  while (v.subscribers() == 0 && !stopped()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+}
 
 view::EstimateSample view_sample(const hal::Estimate& e) {
   view::EstimateSample v;
@@ -29,6 +51,36 @@ void feed_particles(view::LiveView& v, const EstimatorPipeline& p, hal::TimeNs s
   if (!v.particles_due()) return;
   const est::ConstParticleSetView c = p.particles();
   if (c.count > 0) v.publish_particles(stamp_ns, c.x, c.y, c.theta, c.count);
+}
+
+void feed_team(view::LiveView& v, const TeamEstimator& e, std::int32_t own_robot, hal::TimeNs stamp_ns) {
+  const auto& slam = e.slam();
+  const auto& P = slam.covariance();
+  for (int a = 0; a < slam.robots(); ++a) {
+    view::EstimateSample s;
+    s.stamp_ns = stamp_ns;
+    const int o = slam.robot_offset(a);
+    s.pose = {static_cast<double>(slam.mean()(o)), static_cast<double>(slam.mean()(o + 1)), 0.0};
+    s.covariance[0] = static_cast<double>(P(o, o));
+    s.covariance[1] = s.covariance[3] = static_cast<double>(P(o, o + 1));
+    s.covariance[4] = static_cast<double>(P(o + 1, o + 1));
+    s.status = e.status();
+    v.publish_team_estimate(a, s, a == own_robot);
+  }
+  if (!v.landmarks_due()) return;
+  std::array<view::LandmarkSample, kTeamMaxLandmarks> l;
+  const int n = slam.landmarks() < kTeamMaxLandmarks ? slam.landmarks() : kTeamMaxLandmarks;
+  for (int k = 0; k < n; ++k) {
+    const int o = slam.landmark_offset(k);
+    view::LandmarkSample& m = l[static_cast<std::size_t>(k)];
+    m.id = slam.landmark_id(k);
+    m.x = static_cast<double>(slam.mean()(o));
+    m.y = static_cast<double>(slam.mean()(o + 1));
+    m.covariance[0] = static_cast<double>(P(o, o));
+    m.covariance[1] = m.covariance[2] = static_cast<double>(P(o, o + 1));
+    m.covariance[3] = static_cast<double>(P(o + 1, o + 1));
+  }
+  v.publish_landmarks(stamp_ns, l.data(), static_cast<std::size_t>(n));
 }
 
 }  // namespace node

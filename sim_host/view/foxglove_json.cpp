@@ -140,16 +140,42 @@ std::string base64(const std::vector<std::uint8_t>& in) {
 
 }  // namespace
 
-std::string advertise_json() {
+std::string advertise_json(int team_robots) {
   json channels = json::array();
-  for (const ChannelInfo& c : kInfo)
-    channels.push_back({{"id", static_cast<std::uint32_t>(c.id)},
-                        {"topic", c.topic},
+  const auto add = [&channels](std::uint32_t id, const std::string& topic, const char* schema_name, json schema) {
+    channels.push_back({{"id", id},
+                        {"topic", topic},
                         {"encoding", "json"},
-                        {"schemaName", c.schema_name},
-                        {"schema", c.schema().dump()},
+                        {"schemaName", schema_name},
+                        {"schema", schema.dump()},
                         {"schemaEncoding", "jsonschema"}});
+  };
+  if (team_robots <= 0) {
+    for (const ChannelInfo& c : kInfo) add(static_cast<std::uint32_t>(c.id), c.topic, c.schema_name, c.schema());
+  } else {
+    for (int a = 0; a < team_robots; ++a) {
+      const std::string r = "/robot" + std::to_string(a);
+      add(team_channel(a, 0), r + "/truth", "foxglove.PoseInFrame", pose_in_frame_schema());
+      add(team_channel(a, 1), r + "/estimate", "foxglove.PoseInFrame", pose_in_frame_schema());
+      add(team_channel(a, 2), r + "/estimate/ellipse", "foxglove.SceneUpdate", scene_update_schema());
+    }
+    add(kLandmarksChannel, "/landmarks", "foxglove.SceneUpdate", scene_update_schema());
+    add(static_cast<std::uint32_t>(Channel::status), "/status", "est.Status", status_schema());
+  }
   return json{{"op", "advertise"}, {"channels", channels}}.dump();
+}
+
+std::vector<std::uint32_t> advertised_ids(int team_robots) {
+  std::vector<std::uint32_t> ids;
+  if (team_robots <= 0) {
+    for (const ChannelInfo& c : kInfo) ids.push_back(static_cast<std::uint32_t>(c.id));
+    return ids;
+  }
+  for (int a = 0; a < team_robots; ++a)
+    for (int w = 0; w < 3; ++w) ids.push_back(team_channel(a, w));
+  ids.push_back(kLandmarksChannel);
+  ids.push_back(static_cast<std::uint32_t>(Channel::status));
+  return ids;
 }
 
 std::string server_info_json(const std::string& name) {
@@ -180,7 +206,8 @@ std::string pose_json(TimeNs stamp_ns, const Pose& p) {
       .dump();
 }
 
-std::string ellipse_json(const EstimateSample& e) {
+namespace {
+json ellipse_entity(const EstimateSample& e, const std::string& id, double r, double g, double b) {
   const std::vector<double> xy = ellipse_points(e, 36);
   json points = json::array();
   for (std::size_t i = 0; i + 1 < xy.size(); i += 2)
@@ -190,15 +217,34 @@ std::string ellipse_json(const EstimateSample& e) {
                      {"thickness", 2.0},
                      {"scale_invariant", true},
                      {"points", points},
-                     {"color", {{"r", 0.9}, {"g", 0.1}, {"b", 0.1}, {"a", 1.0}}},
+                     {"color", {{"r", r}, {"g", g}, {"b", b}, {"a", 1.0}}},
                      {"colors", json::array()},
                      {"indices", json::array()}};
-  const json entity = {{"timestamp", stamp(e.stamp_ns)}, {"frame_id", kFrame},    {"id", "estimate_2sigma"},
+  return {{"timestamp", stamp(e.stamp_ns)}, {"frame_id", kFrame},    {"id", id},
                        {"lifetime", stamp(0)},          {"frame_locked", false}, {"metadata", json::array()},
                        {"arrows", json::array()},       {"cubes", json::array()}, {"spheres", json::array()},
                        {"cylinders", json::array()},    {"lines", {line}},        {"triangles", json::array()},
                        {"texts", json::array()},        {"models", json::array()}};
-  return json{{"deletions", json::array()}, {"entities", {entity}}}.dump();
+}
+}  // namespace
+
+std::string ellipse_json(const EstimateSample& e) {
+  return json{{"deletions", json::array()}, {"entities", {ellipse_entity(e, "estimate_2sigma", 0.9, 0.1, 0.1)}}}.dump();
+}
+
+std::string landmarks_json(const LandmarkSet& l) {
+  json entities = json::array();
+  for (const LandmarkSample& m : l.landmarks) {
+    EstimateSample e;
+    e.stamp_ns = l.stamp_ns;
+    e.pose = {m.x, m.y, 0.0};
+    e.covariance[0] = m.covariance[0];
+    e.covariance[1] = m.covariance[1];
+    e.covariance[3] = m.covariance[2];
+    e.covariance[4] = m.covariance[3];
+    entities.push_back(ellipse_entity(e, "landmark_" + std::to_string(m.id), 0.5, 0.3, 0.1));
+  }
+  return json{{"deletions", json::array()}, {"entities", entities}}.dump();
 }
 
 std::string particles_json(const ParticleCloud& c) {

@@ -11,6 +11,13 @@
 //   /particles         foxglove.PosesInFrame  MCL's particles, decimated, ~10 Hz
 //   /status            est.Status             the status word and its bits by name, the covariance, rejects
 // Every message is in frame "map" and stamped with the estimator's time.
+//
+// A team's view (estimator_node --filter coop-ekf, view/live_view.hpp with team_robots > 0) has instead, per robot a,
+//   /robot<a>/truth            foxglove.PoseInFrame   robot a's ground truth, when the input carries it
+//   /robot<a>/estimate         foxglove.PoseInFrame   the node's estimate of robot a (point robots: heading 0)
+//   /robot<a>/estimate/ellipse foxglove.SceneUpdate   its 2-sigma ellipse
+// and /landmarks (foxglove.SceneUpdate: every mapped landmark's 2-sigma ellipse, entity id "landmark_<id>", ~10 Hz)
+// and /status (est.Status: the team estimator's status word and the node's own robot's covariance).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -51,8 +58,28 @@ struct ParticleCloud {
   std::vector<float> xs, ys, thetas;
 };
 
-// The advertise message for every channel (ids are the Channel values).
-std::string advertise_json();
+// A team view's channel ids: /status keeps Channel::status; robot a's truth, estimate and ellipse are
+// team_channel(a, 0..2).
+inline constexpr std::uint32_t kLandmarksChannel = 7;
+inline constexpr std::uint32_t team_channel(int robot, int which) {
+  return 16u + 3u * static_cast<std::uint32_t>(robot) + static_cast<std::uint32_t>(which);
+}
+
+struct LandmarkSample {
+  std::int32_t id = 0;
+  double x = 0.0, y = 0.0;
+  double covariance[4] = {};  // (x, y), row-major
+};
+
+struct LandmarkSet {
+  TimeNs stamp_ns = 0;
+  std::vector<LandmarkSample> landmarks;
+};
+
+// The advertise message for every channel (ids are the Channel values), or a team's (team_robots > 0).
+std::string advertise_json(int team_robots = 0);
+// The ids advertise_json(team_robots) advertises.
+std::vector<std::uint32_t> advertised_ids(int team_robots);
 // The server's info message.
 std::string server_info_json(const std::string& name);
 // A status message (level 0 info, 1 warning, 2 error).
@@ -61,6 +88,7 @@ std::string status_json(int level, const std::string& message);
 std::string map_json(const MapGrid& m);
 std::string pose_json(TimeNs stamp_ns, const Pose& p);
 std::string ellipse_json(const EstimateSample& e);
+std::string landmarks_json(const LandmarkSet& l);
 std::string particles_json(const ParticleCloud& c);
 std::string status_json(const EstimateSample& e, std::uint64_t dropped);
 

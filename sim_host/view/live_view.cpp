@@ -3,6 +3,7 @@
 #define ASIO_STANDALONE
 #include "view/live_view.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <future>
 #include <map>
@@ -27,6 +28,8 @@ constexpr auto kDrainPeriod = std::chrono::milliseconds(20);
 
 struct Item {
   enum class Kind : std::uint8_t { estimate, truth } kind = Kind::estimate;
+  std::int32_t robot = -1;  // a team's robot, or -1 (one robot's view)
+  bool with_status = true;
   EstimateSample e;
 };
 
@@ -56,22 +59,19 @@ class ItemRing {
 
 // Triple buffer: the producer fills its back buffer and swaps it into the middle; the consumer takes the middle
 // when it is fresh. A fresh middle swapped out unread is a cloud dropped.
-class CloudBuffer {
+template <typename T>
+class TripleBuffer {
  public:
-  CloudBuffer() {
-    for (ParticleCloud& c : clouds_) {
-      c.xs.reserve(kMaxCloudPoses);
-      c.ys.reserve(kMaxCloudPoses);
-      c.thetas.reserve(kMaxCloudPoses);
-    }
+  explicit TripleBuffer(void (*reserve)(T&)) {
+    for (T& c : clouds_) reserve(c);
   }
-  ParticleCloud& back() { return clouds_[back_]; }
+  T& back() { return clouds_[back_]; }
   bool publish() {  // false: an unread cloud was overwritten
     const int old = middle_.exchange(back_ | kFresh, std::memory_order_acq_rel);
     back_ = old & 3;
     return (old & kFresh) == 0;
   }
-  const ParticleCloud* take() {
+  const T* take() {
     if ((middle_.load(std::memory_order_relaxed) & kFresh) == 0) return nullptr;
     front_ = middle_.exchange(front_, std::memory_order_acq_rel) & 3;
     return &clouds_[front_];
@@ -79,7 +79,7 @@ class CloudBuffer {
 
  private:
   static constexpr int kFresh = 4;
-  ParticleCloud clouds_[3];
+  T clouds_[3];
   int back_ = 0, front_ = 1;
   std::atomic<int> middle_{2};
 };
@@ -90,8 +90,16 @@ void put_le(std::string& s, std::uint64_t v, int bytes) {
 
 }  // namespace
 
+void reserve_cloud(ParticleCloud& c) {
+  c.xs.reserve(kMaxCloudPoses);
+  c.ys.reserve(kMaxCloudPoses);
+  c.thetas.reserve(kMaxCloudPoses);
+}
+void reserve_landmarks(LandmarkSet& l) { l.landmarks.reserve(kMaxViewLandmarks); }
+
 struct LiveView::Impl {
-  Impl(std::uint16_t port_wanted, const std::string& server_name) : name(server_name) {
+  Impl(std::uint16_t port_wanted, const std::string& server_name, int team_robots)
+      : name(server_name), team(team_robots), ids(advertised_ids(team_robots)) {
     server.clear_access_channels(websocketpp::log::alevel::all);
     server.clear_error_channels(websocketpp::log::elevel::all);
     server.init_asio(&ios);
@@ -137,7 +145,7 @@ struct LiveView::Impl {
   // --- server thread -------------------------------------------------------------------------------------------
 
   struct Client {
-    std::map<std::uint32_t, Channel> subscriptions;  // subscription id -> channel
+    std::map<std::uint32_t, std::uint32_t> subscriptions;  // subscription id -> channel id
   };
 
   bool validate(Hdl h) {
@@ -174,7 +182,7 @@ struct LiveView::Impl {
     clients[h];
     client_count.fetch_add(1, std::memory_order_relaxed);
     send_text(h, server_info_json(name));
-    send_text(h, advertise_json());
+    send_text(h, advertise_json(team));
   }
 
   void close(Hdl h) {
@@ -194,16 +202,15 @@ struct LiveView::Impl {
     if (op == "subscribe" && j.contains("subscriptions") && j["subscriptions"].is_array()) {
       for (const nlohmann::json& s : j["subscriptions"]) {
         const std::uint32_t id = s.value("id", 0u), channel = s.value("channelId", 0u);
-        if (channel < static_cast<std::uint32_t>(Channel::map) ||
-            channel > static_cast<std::uint32_t>(Channel::status)) {
+        if (std::find(ids.begin(), ids.end(), channel) == ids.end()) {
           send_text(h, status_json(1, "no channel " + std::to_string(channel)));
           continue;
         }
-        if (!it->second.subscriptions.emplace(id, static_cast<Channel>(channel)).second) {
+        if (!it->second.subscriptions.emplace(id, channel).second) {
           send_text(h, status_json(1, "subscription id " + std::to_string(id) + " in use"));
           continue;
         }
-        if (static_cast<Channel>(channel) == Channel::map) send_map(h, id);
+        if (team == 0 && static_cast<Channel>(channel) == Channel::map) send_map(h, id);
       }
     } else if (op == "unsubscribe" && j.contains("subscriptionIds") && j["subscriptionIds"].is_array()) {
       for (const nlohmann::json& id : j["subscriptionIds"])
@@ -247,7 +254,8 @@ struct LiveView::Impl {
     if (!ec) sent.fetch_add(1, std::memory_order_relaxed);
   }
 
-  bool wanted(Channel ch) const {
+  bool wanted(Channel ch) const { return wanted(static_cast<std::uint32_t>(ch)); }
+  bool wanted(std::uint32_t ch) const {
     for (const auto& [hdl, c] : clients)
       for (const auto& [id, sub] : c.subscriptions)
         if (sub == ch) return true;
@@ -255,6 +263,9 @@ struct LiveView::Impl {
   }
 
   void broadcast(Channel ch, TimeNs stamp_ns, const std::string& payload) {
+    broadcast(static_cast<std::uint32_t>(ch), stamp_ns, payload);
+  }
+  void broadcast(std::uint32_t ch, TimeNs stamp_ns, const std::string& payload) {
     for (const auto& [hdl, c] : clients) {
       for (const auto& [id, sub] : c.subscriptions) {
         if (sub != ch) continue;
@@ -275,6 +286,10 @@ struct LiveView::Impl {
     Item item;
     while (ring.pop(item)) {
       const EstimateSample& e = item.e;
+      if (item.robot >= 0) {
+        drain_team(item);
+        continue;
+      }
       if (item.kind == Item::Kind::truth) {
         if (wanted(Channel::truth)) broadcast(Channel::truth, e.stamp_ns, pose_json(e.stamp_ns, e.pose));
         continue;
@@ -286,6 +301,22 @@ struct LiveView::Impl {
     }
     if (const ParticleCloud* c = clouds.take(); c != nullptr && wanted(Channel::particles))
       broadcast(Channel::particles, c->stamp_ns, particles_json(*c));
+    if (const LandmarkSet* l = landmark_sets.take(); l != nullptr && wanted(kLandmarksChannel))
+      broadcast(kLandmarksChannel, l->stamp_ns, landmarks_json(*l));
+  }
+
+  void drain_team(const Item& item) {
+    const EstimateSample& e = item.e;
+    if (item.kind == Item::Kind::truth) {
+      const std::uint32_t ch = team_channel(item.robot, 0);
+      if (wanted(ch)) broadcast(ch, e.stamp_ns, pose_json(e.stamp_ns, e.pose));
+      return;
+    }
+    if (wanted(team_channel(item.robot, 1)))
+      broadcast(team_channel(item.robot, 1), e.stamp_ns, pose_json(e.stamp_ns, e.pose));
+    if (wanted(team_channel(item.robot, 2))) broadcast(team_channel(item.robot, 2), e.stamp_ns, ellipse_json(e));
+    if (item.with_status && wanted(Channel::status))
+      broadcast(Channel::status, e.stamp_ns, status_json(e, dropped_handoff.load(std::memory_order_relaxed)));
   }
 
   void schedule_drain() {
@@ -298,6 +329,8 @@ struct LiveView::Impl {
   }
 
   std::string name;
+  int team = 0;
+  std::vector<std::uint32_t> ids;  // advertised
   asio::io_service ios;
   asio::steady_timer timer{ios};
   Server server;
@@ -308,14 +341,16 @@ struct LiveView::Impl {
 
   // Shared between the threads.
   ItemRing ring;
-  CloudBuffer clouds;
+  TripleBuffer<ParticleCloud> clouds{reserve_cloud};
+  TripleBuffer<LandmarkSet> landmark_sets{reserve_landmarks};
   std::mutex map_mutex;
   std::string map_payload;
   std::atomic<std::uint32_t> subscribed{0};
   std::atomic<std::uint64_t> client_count{0}, pages{0}, sent{0}, dropped_handoff{0}, dropped_slow{0};
 };
 
-LiveView::LiveView(std::uint16_t port, const std::string& name) : impl_(std::make_unique<Impl>(port, name)) {}
+LiveView::LiveView(std::uint16_t port, const std::string& name, int team_robots)
+    : impl_(std::make_unique<Impl>(port, name, team_robots)) {}
 LiveView::~LiveView() = default;
 void LiveView::stop() { impl_->stop(); }
 
@@ -362,6 +397,38 @@ void LiveView::publish_particles(TimeNs stamp_ns, const float* x, const float* y
     c.thetas.push_back(theta[i]);
   }
   if (!impl_->clouds.publish()) impl_->dropped_handoff.fetch_add(1, std::memory_order_relaxed);
+}
+
+void LiveView::publish_team_estimate(int robot, const EstimateSample& e, bool with_status) {
+  Item item;
+  item.robot = robot;
+  item.with_status = with_status;
+  item.e = e;
+  if (!impl_->ring.push(item)) impl_->dropped_handoff.fetch_add(1, std::memory_order_relaxed);
+}
+
+void LiveView::publish_team_truth(int robot, TimeNs stamp_ns, const Pose& p) {
+  Item item;
+  item.kind = Item::Kind::truth;
+  item.robot = robot;
+  item.e.stamp_ns = stamp_ns;
+  item.e.pose = p;
+  if (!impl_->ring.push(item)) impl_->dropped_handoff.fetch_add(1, std::memory_order_relaxed);
+}
+
+bool LiveView::landmarks_due() {
+  if (impl_->subscribed.load(std::memory_order_relaxed) == 0) return false;
+  const auto now = std::chrono::steady_clock::now();
+  if (now < next_landmarks_) return false;
+  next_landmarks_ = now + kParticlePeriod;
+  return true;
+}
+
+void LiveView::publish_landmarks(TimeNs stamp_ns, const LandmarkSample* landmarks, std::size_t count) {
+  LandmarkSet& l = impl_->landmark_sets.back();
+  l.stamp_ns = stamp_ns;
+  l.landmarks.assign(landmarks, landmarks + std::min(count, kMaxViewLandmarks));
+  if (!impl_->landmark_sets.publish()) impl_->dropped_handoff.fetch_add(1, std::memory_order_relaxed);
 }
 
 std::uint32_t LiveView::subscribers() const { return impl_->subscribed.load(std::memory_order_relaxed); }

@@ -20,6 +20,7 @@
 namespace view {
 
 inline constexpr std::size_t kMaxCloudPoses = 2000;              // particles sent per cloud (decimated)
+inline constexpr std::size_t kMaxViewLandmarks = 256;            // landmarks sent per set
 inline constexpr std::size_t kMaxBufferedBytes = 4u << 20;       // per client, before its messages are dropped
 inline constexpr std::chrono::milliseconds kParticlePeriod{100};  // ~10 Hz
 
@@ -34,7 +35,8 @@ struct ViewCounters {
 class LiveView {
  public:
   // Listens on 127.0.0.1:port and starts the server thread; throws std::runtime_error with one line on failure.
-  LiveView(std::uint16_t port, const std::string& name);
+  // team_robots > 0: a team's channels (view/foxglove_json.hpp) instead of one robot's.
+  LiveView(std::uint16_t port, const std::string& name, int team_robots = 0);
   ~LiveView();  // stop()
   // Sends what is queued, closes the connections and joins the thread (at most ~3 s); idempotent.
   void stop();
@@ -50,6 +52,13 @@ class LiveView {
   // Every stride-th particle, at most kMaxCloudPoses of them.
   void publish_particles(TimeNs stamp_ns, const float* x, const float* y, const float* theta, std::uint32_t count);
 
+  // A team's view: robot a's estimate (its status too, with_status: the node's own robot) and truth, and the
+  // mapped landmarks (landmarks_due(): at the particles' rate, when someone subscribed; the newest set wins).
+  void publish_team_estimate(int robot, const EstimateSample& e, bool with_status);
+  void publish_team_truth(int robot, TimeNs stamp_ns, const Pose& p);
+  bool landmarks_due();
+  void publish_landmarks(TimeNs stamp_ns, const LandmarkSample* landmarks, std::size_t count);
+
   std::uint32_t subscribers() const;  // clients subscribed to any channel now
   ViewCounters counters() const;
   std::uint16_t port() const;
@@ -57,7 +66,7 @@ class LiveView {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  std::chrono::steady_clock::time_point next_cloud_{};
+  std::chrono::steady_clock::time_point next_cloud_{}, next_landmarks_{};
 };
 
 }  // namespace view

@@ -1,0 +1,117 @@
+// A team's live view as Foxglove Studio sees it: @foxglove/ws-protocol's FoxgloveClient subscribes to every channel
+// while `estimator_node --filter coop-ekf --replay LOG --view PORT --view-wait --replay-speed 4` replays a 5 s
+// coop-slam-team run (4 robots, 12 landmarks) as robot 0's node, then checks the advertised channels and their
+// schemas, and that each robot's estimate messages track its own truth messages.
+import { readFileSync } from "node:fs";
+import foxglove from "@foxglove/ws-protocol";
+import WebSocket from "ws";
+import { args, fail, freePort, startNode } from "./view_run.mjs";
+
+const { FoxgloveClient } = foxglove;
+const a = args();
+// The run's sidecar gives robot 0's node's replay options; its metrics the team and its map; its
+// team_estimates.csv (a header and one line per step) the steps.
+const sidecar = JSON.parse(readFileSync(a.run + "/run.lcmlog.json"));
+const metrics = JSON.parse(readFileSync(a.run + "/metrics.json"));
+const robots = metrics.robots, landmarks = metrics.shared.landmarks_mapped;
+const steps = readFileSync(a.run + "/team_estimates.csv", "utf8").trim().split("\n").length - 1;
+const port = await freePort();
+const node = await startNode(a.node, [...sidecar.estimator_node_replays[0].trim().split(/\s+/), "--view", String(port),
+                                      "--view-wait", "--replay-speed", "4"]);
+
+const expected = { "/landmarks": "foxglove.SceneUpdate", "/status": "est.Status" };
+for (let r = 0; r < robots; ++r) {
+  expected[`/robot${r}/truth`] = "foxglove.PoseInFrame";
+  expected[`/robot${r}/estimate`] = "foxglove.PoseInFrame";
+  expected[`/robot${r}/estimate/ellipse`] = "foxglove.SceneUpdate";
+}
+const channels = new Map();  // channel id -> channel
+const topicOf = new Map();   // subscription id -> topic
+const got = Object.fromEntries(Object.keys(expected).map((t) => [t, []]));
+let serverName = null;
+
+const client = new FoxgloveClient({
+  ws: new WebSocket(`ws://127.0.0.1:${port}`, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]),
+});
+const closed = new Promise((resolve) => client.on("close", resolve));
+client.on("error", (e) => fail("client error: " + e.message));
+client.on("serverInfo", (info) => (serverName = info.name));
+client.on("advertise", (list) => {
+  for (const ch of list) {
+    channels.set(ch.id, ch);
+    topicOf.set(client.subscribe(ch.id), ch.topic);
+  }
+});
+const decoder = new TextDecoder();
+client.on("message", ({ subscriptionId, data }) => {
+  const topic = topicOf.get(subscriptionId);
+  got[topic]?.push(JSON.parse(decoder.decode(new Uint8Array(data.buffer, data.byteOffset, data.byteLength))));
+});
+
+const timeout = setTimeout(() => {
+  fail("no end of the replay in 60 s");
+  node.proc.kill("SIGTERM");
+  client.close();
+}, 60000);
+await closed;  // the server closes the connection when the replay is over
+const { code, output } = await node.exited;
+clearTimeout(timeout);
+if (code !== 0) fail(`estimator_node exited with ${code}:\n${output}`);
+
+// The channels and their schemas.
+if (serverName !== "estimator_node") fail("serverInfo name " + serverName);
+for (const [topic, schemaName] of Object.entries(expected)) {
+  const ch = [...channels.values()].find((c) => c.topic === topic);
+  if (!ch) { fail("not advertised: " + topic); continue; }
+  if (ch.schemaName !== schemaName) fail(`${topic}: schema ${ch.schemaName}, expected ${schemaName}`);
+  if (ch.encoding !== "json" || ch.schemaEncoding !== "jsonschema") fail(`${topic}: ${ch.encoding}/${ch.schemaEncoding}`);
+  const schema = JSON.parse(ch.schema);
+  if (schema.title !== schemaName || schema.type !== "object") fail(`${topic}: schema title ${schema.title}`);
+  const first = got[topic][0];
+  if (!first) { fail("no message on " + topic); continue; }
+  for (const key of Object.keys(first)) if (!(key in schema.properties)) fail(`${topic}: field ${key} not in its schema`);
+}
+if (channels.size !== Object.keys(expected).length) fail(`advertised ${channels.size} channels, expected ${Object.keys(expected).length}`);
+
+// Each robot's estimates track its own truth: each estimate against that robot's truth message nearest in time
+// (within 20 ms). The run's own metrics give 0.05-0.08 m position RMSE per robot (README); the bounds fail a robot
+// whose estimate is another robot's or lost, not one a little off.
+const seconds = (m) => m.timestamp.sec + m.timestamp.nsec * 1e-9;
+const report = [];
+for (let r = 0; r < robots; ++r) {
+  const truths = got[`/robot${r}/truth`].map((m) => ({ t: seconds(m), ...m.pose.position }));
+  const estimates = got[`/robot${r}/estimate`].map((m) => ({ t: seconds(m), ...m.pose.position }));
+  let k = 0;
+  const errors = [];
+  for (const e of estimates) {
+    while (k + 1 < truths.length && Math.abs(truths[k + 1].t - e.t) <= Math.abs(truths[k].t - e.t)) ++k;
+    if (truths.length && Math.abs(truths[k].t - e.t) <= 0.02) errors.push(Math.hypot(truths[k].x - e.x, truths[k].y - e.y));
+  }
+  const rmse = Math.sqrt(errors.reduce((s, m) => s + m * m, 0) / Math.max(1, errors.length));
+  const worst = Math.max(...errors);
+  if (estimates.length < 0.9 * steps) fail(`robot ${r}: ${estimates.length} estimates of ${steps} steps`);
+  if (errors.length < 0.9 * estimates.length) fail(`robot ${r}: ${errors.length} of ${estimates.length} estimates have a truth within 20 ms`);
+  if (!(rmse < 0.2 && worst < 0.5)) fail(`robot ${r}: RMSE ${rmse.toFixed(3)} m, worst ${worst.toFixed(3)} m (bounds 0.2, 0.5 m)`);
+  // The ellipse is the robot's: centred on its estimate.
+  const ell = got[`/robot${r}/estimate/ellipse`].at(-1)?.entities[0].lines[0].points;
+  const last = estimates.at(-1);
+  if (!ell || ell.length !== 36 || !last) { fail(`robot ${r}: ellipse`); continue; }
+  const cx = ell.reduce((s, p) => s + p.x, 0) / ell.length, cy = ell.reduce((s, p) => s + p.y, 0) / ell.length;
+  if (Math.hypot(cx - last.x, cy - last.y) > 0.01) fail(`robot ${r}: ellipse centred ${cx},${cy}, estimate ${last.x},${last.y}`);
+  report.push(`robot ${r}: ${estimates.length} estimates, ${truths.length} truths, RMSE ${rmse.toFixed(3)} m, worst ${worst.toFixed(3)} m`);
+}
+
+// The landmarks: the last set has every mapped landmark, each an ellipse; the status has the own robot's covariance.
+const sets = got["/landmarks"];
+const lastSet = sets.at(-1)?.entities ?? [];
+if (lastSet.length !== landmarks) fail(`last landmark set has ${lastSet.length} landmarks, expected ${landmarks}`);
+if (robots !== 4 || steps < 40) fail(`the run: ${robots} robots, ${steps} steps`);
+if (!lastSet.every((e) => /^landmark_\d+$/.test(e.id) && e.lines[0].points.length === 36)) fail("landmark entities");
+const status = got["/status"].at(-1);
+if (!status || !Array.isArray(status.bits) || status.covariance?.length !== 9) fail("status " + JSON.stringify(status));
+if (got["/status"].length < 0.9 * steps) fail(`${got["/status"].length} status messages of ${steps} steps`);
+const summary = output.split("\n").find((l) => l.includes("view: ")) || "(no view line)";
+
+console.log(`foxglove client (team replay at 4x): ${channels.size} channels; ${report.join("; ")}; ${sets.length} landmark sets ` +
+            `(${lastSet.length} landmarks); ${got["/status"].length} status; node${summary}`);
+if (process.exitCode) console.log("0 passed, 1 failed"); else console.log("1 passed, 0 failed");
