@@ -1,3 +1,5 @@
+#include "est/assoc/jcbb.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -5,7 +7,6 @@
 
 #include <Eigen/Dense>
 
-#include "est/assoc/jcbb.hpp"
 #include "est/filter/ekf_localization.hpp"
 #include "est/motion/velocity_model.hpp"
 #include "est/random/xoshiro128.hpp"
@@ -29,8 +30,12 @@ double direct_joint_nis(const Eigen::Vector3f& mu, const Eigen::Matrix3f& P, con
     if (a[i] >= 0) rows.push_back(static_cast<int>(i));
   const int k = static_cast<int>(rows.size());
   if (k == 0) return 0.0;
-  Eigen::MatrixXd H(2 * k, 3), R = Eigen::MatrixXd::Zero(2 * k, 2 * k);
-  Eigen::VectorXd nu(2 * k);
+  // Dynamic sizes of at most 8 rows: no heap (est/eigen.hpp forbids it).
+  using Mat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 8, 8>;
+  using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 8, 1>;
+  Eigen::Matrix<double, Eigen::Dynamic, 3, 0, 8, 3> H(2 * k, 3);
+  Mat R = Mat::Zero(2 * k, 2 * k);
+  Vec nu(2 * k);
   for (int r = 0; r < k; ++r) {
     const auto& s = z[static_cast<std::size_t>(rows[static_cast<std::size_t>(r)])];
     const est::Landmark& l = map[a[static_cast<std::size_t>(rows[static_cast<std::size_t>(r)])]];
@@ -41,8 +46,9 @@ double direct_joint_nis(const Eigen::Vector3f& mu, const Eigen::Matrix3f& P, con
     R(2 * r, 2 * r) = s.sigma_range * s.sigma_range;
     R(2 * r + 1, 2 * r + 1) = s.sigma_bearing * s.sigma_bearing;
   }
-  const Eigen::MatrixXd S = H * P.cast<double>() * H.transpose() + R;
-  return nu.dot(S.ldlt().solve(nu));
+  const Mat S = H * P.cast<double>() * H.transpose() + R;
+  const Vec x = S.ldlt().solve(nu);
+  return nu.dot(x);
 }
 
 }  // namespace

@@ -44,6 +44,7 @@ struct MrclamNoise {
   // 4.8 m to 0.72 m RMSE and the mean from 2.69 / 0.15 m to 0.28 / 0.24 m (Datasets 1 / 2); 0.5 and 2 nats lost
   // robots again.
   float ambiguity_nats = 1.0f;
+  bool joint_association = false;
 };
 
 struct MrclamEvalOptions {

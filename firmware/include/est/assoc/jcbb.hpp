@@ -15,7 +15,8 @@
 //   c = sum nu_i^T R_i^-1 nu_i                          (the matrix inversion lemma),
 // so extending a hypothesis by one pairing costs a 3 x 3 solve whatever the frame's size. d2 never decreases when a
 // pairing is added (a Schur complement), which bounds the search: a branch is cut when even pairing every remaining
-// sighting cannot beat the best count, or can only tie it with a distance already at or above the best's.
+// sighting cannot beat the best count, or can only tie it with a distance already at or above the runner-up's (the
+// second best assignment of as many pairings is kept too, for the caller's ambiguity test).
 //
 // Bounded: at most MaxSightings sightings per frame (more are refused: `too_many` in the result) and the
 // MaxCandidates individually compatible landmarks of smallest distance per sighting (the rest are dropped and
@@ -58,6 +59,11 @@ struct JcbbParams {
 template <int MaxSightings>
 struct JcbbResult {
   std::int32_t landmark_of[static_cast<unsigned>(MaxSightings)];  // the map index paired with each sighting, or -1
+  // The runner-up: the next best assignment with as many pairings (its joint distance the next smallest), for an
+  // ambiguity test: a caller may fuse only the pairings both share when the two are close.
+  std::int32_t runner_up_of[static_cast<unsigned>(MaxSightings)];
+  bool has_runner_up = false;
+  float runner_up_nis = 0.0f;
   std::int32_t paired = 0;
   float joint_nis = 0.0f;             // of the chosen assignment (0 when nothing is paired)
   std::uint32_t nodes = 0;            // search nodes visited
@@ -66,6 +72,36 @@ struct JcbbResult {
   bool too_many = false;              // more sightings than MaxSightings: nothing associated
   bool ok = false;                    // false: bad input (covariance not positive definite, non-finite values)
 };
+
+namespace jcbb_detail {
+// x = A^-1 b for a symmetric positive definite 3 x 3 A by Cholesky (A = L L^T); false if A is not.
+inline bool spd_solve3(const Eigen::Matrix3f& A, const Eigen::Vector3f& b, Eigen::Vector3f& x) {
+  float L[3][3] = {};
+  for (int j = 0; j < 3; ++j) {
+    float d = A(j, j);
+    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k];
+    if (!(d > 0.0f) || !fmath::isfinite(d)) return false;
+    L[j][j] = fmath::sqrt(d);
+    for (int i = j + 1; i < 3; ++i) {
+      float v = A(i, j);
+      for (int k = 0; k < j; ++k) v -= L[i][k] * L[j][k];
+      L[i][j] = v / L[j][j];
+    }
+  }
+  float y[3];
+  for (int i = 0; i < 3; ++i) {
+    float v = b(i);
+    for (int k = 0; k < i; ++k) v -= L[i][k] * y[k];
+    y[i] = v / L[i][i];
+  }
+  for (int i = 2; i >= 0; --i) {
+    float v = y[i];
+    for (int k = i + 1; k < 3; ++k) v -= L[k][i] * x(k);
+    x(i) = v / L[i][i];
+  }
+  return true;
+}
+}  // namespace jcbb_detail
 
 template <int MaxSightings, int MaxCandidates>
 class JointCompatibility {
@@ -79,7 +115,7 @@ class JointCompatibility {
   Result associate(const Eigen::Vector3f& mu, const Eigen::Matrix3f& P, const JcbbSighting* z, int n,
                    const LandmarkMap& map, const JcbbParams& params) {
     Result out;
-    for (int i = 0; i < MaxSightings; ++i) out.landmark_of[i] = -1;
+    for (int i = 0; i < MaxSightings; ++i) out.landmark_of[i] = out.runner_up_of[i] = -1;
     if (n < 0) return out;
     if (n > MaxSightings) {
       out.too_many = true;
@@ -88,10 +124,13 @@ class JointCompatibility {
     if (map.size() > 64) return out;
     for (int i = 0; i < 3; ++i)
       if (!fmath::isfinite(mu(i))) return out;
-    Eigen::LLT<Eigen::Matrix3f> llt(P);
-    if (llt.info() != Eigen::Success) return out;
-    const Eigen::Matrix3f P_inv = llt.solve(Eigen::Matrix3f::Identity());
-    if (!P_inv.allFinite()) return out;
+    Eigen::Matrix3f P_inv;
+    for (int c = 0; c < 3; ++c) {
+      Eigen::Vector3f col;
+      if (!jcbb_detail::spd_solve3(P, Eigen::Vector3f::Unit(c), col)) return out;
+      P_inv.col(c) = col;
+    }
+    P_inv = (0.5f * (P_inv + P_inv.transpose())).eval();
     n_ = n;
     for (int i = 0; i < n; ++i) out.candidates_dropped += candidates(mu, P, z[i], map, params, i);
     search(P_inv, params, out);
@@ -185,7 +224,8 @@ class JointCompatibility {
       const int remaining = n_ - level;
       // Bound: the best this branch can still reach.
       const bool hopeless = L.paired + remaining < best_paired ||
-                            (L.paired + remaining == best_paired && best_paired > 0 && L.d2 >= best_d2);
+                            (L.paired + remaining == best_paired && best_paired > 0 && out.has_runner_up &&
+                             L.d2 >= out.runner_up_nis);
       if (hopeless || L.next > count_[level]) {
         --level;
         continue;
@@ -205,7 +245,8 @@ class JointCompatibility {
         C.A = L.A + p.HtRH;
         C.b = L.b + p.HtRnu;
         C.c = L.c + p.nuRnu;
-        const Eigen::Vector3f x = C.A.llt().solve(C.b);
+        Eigen::Vector3f x;
+        if (!jcbb_detail::spd_solve3(C.A, C.b, x)) continue;
         float d2 = C.c - C.b.dot(x);
         if (!fmath::isfinite(d2)) continue;
         if (d2 < L.d2) d2 = L.d2;  // rounding: the distance never decreases with a pairing
@@ -229,11 +270,22 @@ class JointCompatibility {
         continue;
       }
       // A leaf: a complete, jointly compatible assignment.
-      if (C.paired > best_paired || (C.paired == best_paired && C.paired > 0 && C.d2 < best_d2)) {
+      if (C.paired == 0) continue;
+      if (C.paired > best_paired || (C.paired == best_paired && C.d2 < best_d2)) {
+        if (C.paired == best_paired) {  // the best so far becomes the runner-up
+          out.has_runner_up = true;
+          out.runner_up_nis = best_d2;
+          for (int i = 0; i < n_; ++i) out.runner_up_of[i] = out.landmark_of[i];
+        } else {
+          out.has_runner_up = false;
+        }
         best_paired = C.paired;
         best_d2 = C.d2;
-        for (int i = 0; i < n_; ++i)
-          out.landmark_of[i] = choice[i] >= 0 ? cand_[i][choice[i]].landmark : -1;
+        for (int i = 0; i < n_; ++i) out.landmark_of[i] = choice[i] >= 0 ? cand_[i][choice[i]].landmark : -1;
+      } else if (C.paired == best_paired && (!out.has_runner_up || C.d2 < out.runner_up_nis)) {
+        out.has_runner_up = true;
+        out.runner_up_nis = C.d2;
+        for (int i = 0; i < n_; ++i) out.runner_up_of[i] = choice[i] >= 0 ? cand_[i][choice[i]].landmark : -1;
       }
     }
     out.paired = best_paired;
