@@ -401,10 +401,18 @@ void add_mrclam_eval(CLI::App& eval) {
       ->capture_default_str();
   cmd->add_option("--sigma-bearing", opts->noise.sigma_bearing, "camera bearing noise (rad)")->capture_default_str();
   cmd->add_option("--ambiguity-nats", opts->noise.ambiguity_nats,
-                  "unknown correspondence: refuse a sighting whose runner-up landmark is this close (log likelihood)")
+                  "unknown correspondence: refuse a sighting (ml) or a frame's disputed pairings (jcbb) whose runner-up "
+                  "landmark or assignment is this close (log likelihood)")
       ->capture_default_str();
-  cmd->add_flag("--joint-association", opts->noise.joint_association,
-                "unknown correspondence: associate each camera frame's sightings jointly (JCBB) instead of one at a time");
+  cmd->add_option_function<std::string>(
+         "--association",
+         [opts](const std::string& v) {
+           if (v != "jcbb" && v != "ml") throw CLI::ValidationError("--association", "jcbb or ml");
+           opts->noise.joint_association = v == "jcbb";
+         },
+         "unknown correspondence: jcbb: each camera frame's sightings jointly (joint compatibility branch and bound); "
+         "ml: one at a time by maximum likelihood (table 7.3)")
+      ->default_str("jcbb");
   cmd->add_option("--rot-sigma", opts->noise.rot_sigma, "heading noise per 10 ms prediction (rad)")
       ->capture_default_str();
   auto a = std::make_shared<std::vector<float>>(std::begin(opts->noise.a), std::end(opts->noise.a));
