@@ -155,6 +155,7 @@ class EkfEstimator {
   bool initialized() const { return initialized_; }
   const Filter& filter() const { return ekf_; }
   const JointAssociationCounters& joint_counters() const { return joint_; }
+  bool frame_pending() const { return frame_n_ > 0; }
 
  private:
   LandmarkNoise noise_at(float range_m) const {
