@@ -461,3 +461,46 @@ TEST_CASE("the EKF loop's outputs are bit-identical when the inputs arrive shuff
     REQUIRE(a.estimates[i].covariance == b.estimates[i].covariance);
   }
 }
+
+TEST_CASE("joint association fuses a camera frame by JCBB where one sighting at a time picks the wrong posts",
+          "[ekf_estimator]") {
+  // est/assoc/jcbb.hpp's case, through the loop: three posts ahead 1 m apart and one to the left, the robot 0.6 m to
+  // the right of its belief. One at a time (table 7.3) the first two sightings pair with the next posts up and pull
+  // the belief the wrong way; the frame's joint assignment pairs all three right. The output at the frame's stamp
+  // already holds the correction (the loop's end_of_frame()).
+  const est::Landmark posts[4] = {{5.0f, 0.0f, 0.0f}, {5.0f, 1.0f, 0.0f}, {5.0f, 2.0f, 0.0f}, {0.0f, 5.0f, 0.0f}};
+  const est::LandmarkMap map(posts, 4);
+  const float truth_y = -0.6f;
+  auto sighting = [&](int j) {
+    const float dx = posts[j].x, dy = posts[j].y - truth_y;
+    return est::loop::LandmarkInput{10 * kMs, std::sqrt(dx * dx + dy * dy), std::atan2(dy, dx), 0.0f, -1};
+  };
+  for (const bool joint : {false, true}) {
+    auto c = diff_config();
+    c.noise = {0.05f, 0.01f, 0.0f};
+    c.joint_association = joint;
+    DiffEstimator ekf(c, map);
+    REQUIRE(ekf.initialize_at({0.0f, 0.0f, 0.0f}, 0.4f, 0.02f));
+    DiffLoop loop(ekf, est::loop::LoopTiming{});
+    StepClock clock;
+    Outputs out;
+    loop.push(ticks(10 * kMs, 0, 0));
+    for (const int j : {0, 1, 3}) loop.push(sighting(j));
+    loop.push(ticks(100 * kMs, 0, 0));
+    loop.run(clock, out);
+    loop.flush(clock, out);
+    const auto at = std::find_if(out.all.begin(), out.all.end(), [](const auto& o) { return o.t_ns == 10 * kMs; });
+    REQUIRE(at != out.all.end());
+    const float y = out.estimates[static_cast<std::size_t>(at - out.all.begin())].mean.y;
+    INFO((joint ? "joint" : "one at a time") << ": y " << y);
+    if (joint) {
+      CHECK(std::fabs(y - truth_y) < 0.05f);
+      CHECK(ekf.joint_counters().frames == 1u);
+      CHECK(ekf.joint_counters().paired == 3u);
+      CHECK(ekf.joint_counters().unpaired == 0u);
+    } else {
+      CHECK(std::fabs(y - truth_y) > 0.3f);
+      CHECK(ekf.joint_counters().frames == 0u);
+    }
+  }
+}

@@ -83,6 +83,7 @@ Trajectory run_node(const MrclamEval& ev, const MrclamRobotLog& r, const std::st
   s.landmark_noise = camera_noise(o.noise);
   s.ekf_rot_sigma = o.noise.rot_sigma;
   s.ambiguity_nats = o.noise.ambiguity_nats;
+  s.joint_association = o.noise.joint_association;
   const TimedPose x0 = first_truth(r);
   s.initial_pose = {static_cast<float>(x0.x), static_cast<float>(x0.y), static_cast<float>(x0.theta)};
   s.initial_sigma_xy_m = 0.05f;
@@ -400,8 +401,18 @@ void add_mrclam_eval(CLI::App& eval) {
       ->capture_default_str();
   cmd->add_option("--sigma-bearing", opts->noise.sigma_bearing, "camera bearing noise (rad)")->capture_default_str();
   cmd->add_option("--ambiguity-nats", opts->noise.ambiguity_nats,
-                  "unknown correspondence: refuse a sighting whose runner-up landmark is this close (log likelihood)")
+                  "unknown correspondence: refuse a sighting (ml) or a frame's disputed pairings (jcbb) whose runner-up "
+                  "landmark or assignment is this close (log likelihood)")
       ->capture_default_str();
+  cmd->add_option_function<std::string>(
+         "--association",
+         [opts](const std::string& v) {
+           if (v != "jcbb" && v != "ml") throw CLI::ValidationError("--association", "jcbb or ml");
+           opts->noise.joint_association = v == "jcbb";
+         },
+         "unknown correspondence: jcbb: each camera frame's sightings jointly (joint compatibility branch and bound); "
+         "ml: one at a time by maximum likelihood (table 7.3)")
+      ->default_str("jcbb");
   cmd->add_option("--rot-sigma", opts->noise.rot_sigma, "heading noise per 10 ms prediction (rad)")
       ->capture_default_str();
   auto a = std::make_shared<std::vector<float>>(std::begin(opts->noise.a), std::end(opts->noise.a));

@@ -236,6 +236,7 @@ class PipelineImpl final : public EstimatorPipeline {
     } else {
       e.ekf.additive_process_noise(2, 2) = s.ekf_rot_sigma * s.ekf_rot_sigma;
       e.ekf.ambiguity_nats = s.ambiguity_nats;
+      e.joint_association = s.joint_association;
       e.noise = s.landmark_noise;
       e.sigma_range_per_m = s.landmark_sigma_range_per_m;
       e.lost_sigma_m = s.lost_sigma_m;

@@ -100,6 +100,7 @@ struct EstimatorSpec {
   float lost_sigma_m = 5.0f;
   bool landmark_ids = true;    // false: the sensor's landmark ids are ignored (association by maximum likelihood)
   float ambiguity_nats = 0.0f;  // EKF, maximum likelihood: refuse a feature whose runner-up is this close (nats)
+  bool joint_association = false;  // EKF: features without an id associated per frame by JCBB (est/assoc/jcbb.hpp)
   bool mcl_landmarks = false;  // MCL corrects with landmark sightings on the landmark map, as well as with scans
 
   // The loop and the HAL gate.

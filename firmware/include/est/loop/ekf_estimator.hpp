@@ -9,8 +9,15 @@
 // non-finite, not positive definite; each also counted by reason in filter().counters()) are `rejected`, and the
 // belief is kept; a belief whose position standard deviation grew beyond `lost_sigma_m` is reported `degenerate`
 // (dead reckoning without landmarks for too long: the Gaussian no longer localizes the robot).
+//
+// With `joint_association`, features without a correspondence are not associated one at a time (table 7.3) but per
+// sensor frame, the features sharing a stamp, by joint compatibility (est/assoc/jcbb.hpp): they are gathered by
+// correct() and fused, each with the landmark its frame's assignment gave it, by end_of_frame() (the loop calls it
+// after the last input of a stamp), or by the next predict() or a feature of another stamp. A frame of more than
+// kFrameSightings features is associated in parts of that many (counted as split).
 #include <cstdint>
 
+#include "est/assoc/jcbb.hpp"
 #include "est/filter/ekf_localization.hpp"
 #include "est/filter/particle_estimate.hpp"
 #include "est/loop/filter_loop.hpp"
@@ -31,6 +38,20 @@ struct EkfEstimatorConfig {
   float sigma_range_per_m = 0.0f;
   float lost_sigma_m = 5.0f;  // position standard deviation (the larger axis) above which the belief is degenerate
   bool sensor_ids = true;     // false: the sensor's ids are ignored, every feature is associated by table 7.3
+  bool joint_association = false;  // features without an id: associated per frame by JCBB instead of table 7.3
+  JcbbParams jcbb{};
+};
+
+// Joint association's counts (EkfEstimator::joint_counters()).
+struct JointAssociationCounters {
+  std::uint32_t frames = 0;
+  std::uint32_t features = 0;
+  std::uint32_t paired = 0;              // given a landmark by the frame's assignment
+  std::uint32_t unpaired = 0;            // in no jointly compatible assignment of the most pairings, or ambiguous
+  std::uint32_t ambiguous_frames = 0;    // the runner-up assignment within ambiguity_nats: shared pairings only
+  std::uint32_t node_cap_hits = 0;       // frames whose search stopped at JcbbParams::max_nodes
+  std::uint32_t split_frames = 0;        // frames of more than kFrameSightings features
+  std::uint32_t candidates_dropped = 0;  // individually compatible landmarks beyond kCandidates
 };
 
 template <typename Model>
@@ -40,6 +61,8 @@ class EkfEstimator {
  public:
   using Filter = EkfLocalization<Model>;
   using Assembler = ControlAssembler<Model>;
+  static constexpr int kFrameSightings = 8;  // features associated jointly (more in one frame: in parts)
+  static constexpr int kCandidates = 4;      // landmarks kept per feature for the joint search, nearest first
 
   EkfEstimator(const EkfEstimatorConfig<Model>& config, const LandmarkMap& map)
       : config_(config), ekf_(config.ekf), map_(map) {}
@@ -61,6 +84,7 @@ class EkfEstimator {
   // Table 7.2 lines 2-7 over the motion since the last prediction.
   StepOutcome predict(const MotionInput& m) {
     if (!initialized_) return StepOutcome::rejected;
+    if (frame_n_ > 0) end_of_frame();  // the loop has fused it already (end_of_frame); a caller without one
     typename Model::Params p = config_.motion;
     typename Model::Control u{};
     const ControlStatus c = Assembler::make(m, config_.control, p, u);
@@ -75,12 +99,47 @@ class EkfEstimator {
     if (!initialized_) return StepOutcome::rejected;
     const LandmarkMeasurement f{z.range_m, z.bearing_rad, z.signature};
     const bool known = z.id >= 0 && config_.sensor_ids;
-    LandmarkNoise noise = config_.noise;
-    if (config_.sigma_range_per_m > 0.0f && z.range_m > 0.0f)
-      noise.sigma_range += config_.sigma_range_per_m * z.range_m;
+    if (!known && config_.joint_association) return gather(z);
+    const LandmarkNoise noise = noise_at(z.range_m);
     const CorrectionResult r = known ? ekf_.correct_range_bearing(f, map_, z.id, noise)
                                      : ekf_.correct_range_bearing_unknown(f, map_, noise).correction;
     if (!accepted(r.status)) return StepOutcome::rejected;
+    return lost() ? StepOutcome::degenerate : StepOutcome::applied;
+  }
+
+  // Fuses the gathered frame: JCBB's assignment, then each paired feature with its landmark (table 7.2 lines
+  // 8-20, one at a time). Rejected when no feature of the frame was fused.
+  StepOutcome end_of_frame() {
+    if (frame_n_ <= 0) return StepOutcome::applied;
+    JcbbSighting s[kFrameSightings];
+    for (int i = 0; i < frame_n_; ++i) {
+      const LandmarkNoise n = noise_at(frame_[i].range_m);
+      s[i] = {frame_[i].range_m, frame_[i].bearing_rad, n.sigma_range, n.sigma_bearing};
+    }
+    const int n = frame_n_;
+    frame_n_ = 0;
+    const auto a = jcbb_.associate(ekf_.mean_vector(), ekf_.covariance(), s, n, map_, config_.jcbb);
+    ++joint_.frames;
+    joint_.features += static_cast<std::uint32_t>(n);
+    joint_.candidates_dropped += a.candidates_dropped;
+    if (a.node_cap_hit) ++joint_.node_cap_hits;
+    // The ambiguity test of table 7.3's (EkfLocalization::Params::ambiguity_nats), for the frame: when the
+    // runner-up assignment's log likelihood is within that margin, only the pairings both make are fused.
+    const bool ambiguous = a.has_runner_up && 0.5f * (a.runner_up_nis - a.joint_nis) < config_.ekf.ambiguity_nats;
+    if (ambiguous) ++joint_.ambiguous_frames;
+    std::int32_t fused = 0;
+    for (int i = 0; i < n; ++i) {
+      std::int32_t j = a.ok ? a.landmark_of[i] : -1;
+      if (ambiguous && j != a.runner_up_of[i]) j = -1;
+      if (j < 0) {
+        ++joint_.unpaired;
+        continue;
+      }
+      ++joint_.paired;
+      const LandmarkMeasurement f{frame_[i].range_m, frame_[i].bearing_rad, frame_[i].signature};
+      if (accepted(ekf_.correct_range_bearing(f, map_, j, noise_at(frame_[i].range_m)).status)) ++fused;
+    }
+    if (fused == 0) return StepOutcome::rejected;
     return lost() ? StepOutcome::degenerate : StepOutcome::applied;
   }
 
@@ -95,8 +154,29 @@ class EkfEstimator {
 
   bool initialized() const { return initialized_; }
   const Filter& filter() const { return ekf_; }
+  const JointAssociationCounters& joint_counters() const { return joint_; }
+  bool frame_pending() const { return frame_n_ > 0; }
 
  private:
+  LandmarkNoise noise_at(float range_m) const {
+    LandmarkNoise noise = config_.noise;
+    if (config_.sigma_range_per_m > 0.0f && range_m > 0.0f) noise.sigma_range += config_.sigma_range_per_m * range_m;
+    return noise;
+  }
+
+  // Joint association: a feature joins the frame of its stamp; a feature of another stamp, or one beyond the
+  // frame's capacity, first fuses the frame gathered so far. The outcome of a gathered feature is its frame's.
+  StepOutcome gather(const LandmarkInput& z) {
+    StepOutcome o = StepOutcome::applied;
+    if (frame_n_ > 0 && z.t_ns != frame_[0].t_ns) o = end_of_frame();
+    if (frame_n_ >= kFrameSightings) {
+      ++joint_.split_frames;
+      o = end_of_frame();
+    }
+    frame_[frame_n_++] = z;
+    return o;
+  }
+
   bool lost() const {
     const float limit = config_.lost_sigma_m * config_.lost_sigma_m;
     return ekf_.covariance()(0, 0) > limit || ekf_.covariance()(1, 1) > limit;
@@ -106,6 +186,10 @@ class EkfEstimator {
   Filter ekf_;
   LandmarkMap map_;
   bool initialized_ = false;
+  JointCompatibility<kFrameSightings, kCandidates> jcbb_;
+  LandmarkInput frame_[kFrameSightings];
+  int frame_n_ = 0;
+  JointAssociationCounters joint_{};
 };
 
 }  // namespace est::loop

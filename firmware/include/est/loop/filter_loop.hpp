@@ -15,6 +15,8 @@
 //   StepOutcome predict(const MotionInput&);
 //   StepOutcome correct(const ScanInput&);       if it corrects with scans
 //   StepOutcome correct(const LandmarkInput&);   if it corrects with landmark features
+//   StepOutcome end_of_frame();                  optional, with bool frame_pending() const: after the last
+//                                                measurement of a stamp, before its output, when a frame is pending
 //   PoseEstimate estimate() const;
 // Inputs of a kind the estimator does not use (a lidar on the bus of an EKF on landmarks) are counted as unused and
 // dropped when pushed: not a fault, no status bit.
@@ -58,6 +60,16 @@ struct CorrectsWith : std::false_type {};
 template <typename Estimator, typename Measurement>
 struct CorrectsWith<Estimator, Measurement,
                     std::void_t<decltype(std::declval<Estimator&>().correct(std::declval<const Measurement&>()))>>
+    : std::true_type {};
+
+// Whether Estimator has end_of_frame() and frame_pending(): an estimator that gathers the measurements sharing a
+// stamp (one sensor frame, e.g. for joint data association) fuses them there, before the output at that stamp. The
+// loop calls (and times) it only when a frame is pending, so an estimator that gathers nothing steps as before.
+template <typename Estimator, typename = void>
+struct EndsFrames : std::false_type {};
+template <typename Estimator>
+struct EndsFrames<Estimator, std::void_t<decltype(std::declval<Estimator&>().end_of_frame()),
+                                         decltype(std::declval<const Estimator&>().frame_pending())>>
     : std::true_type {};
 
 template <typename Estimator>
@@ -150,6 +162,12 @@ class FilterLoop {
     queue_.pop();
     // The output at t and the prediction at t itself wait while more inputs stamped t are queued.
     if (queue_.empty() || queue_.front_time() > t) {
+      if constexpr (EndsFrames<Estimator>::value) {
+        if (corrected_ && est_.frame_pending()) {
+          const TimeNs t0 = clock();
+          account(est_.end_of_frame(), clock() - t0);
+        }
+      }
       if (corrected_) publish(sink, t);
       corrected_ = false;
       advance_predictions(clock, sink, t, true);
