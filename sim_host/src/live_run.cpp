@@ -13,10 +13,7 @@ LiveResult run_live_robot(const SimResult& lockstep, const ScenarioConfig& sc, c
   fs::create_directories(dir);
   const std::string log = (fs::path(out) / "run.lcmlog").string();
   const nlohmann::json sidecar = nlohmann::json::parse(read_text(log + ".json"));
-  std::string options = sidecar.at("estimator_node_options").get<std::string>();
-  const std::string replay = "--replay " + log;
-  if (options.compare(0, replay.size(), replay) != 0) throw std::runtime_error("--live: the sidecar is not this run's");
-  options = with_node_args(options.substr(replay.size()), o.node_args);
+  const std::string options = live_node_options(sidecar, log, o);
 
   std::printf("live: the run again in real time (%.1f s): estimator_node on LCM %s\n", sc.duration_s,
               o.lcm_url.c_str());
@@ -62,17 +59,7 @@ LiveResult run_live_robot(const SimResult& lockstep, const ScenarioConfig& sc, c
               sc.duration_s, played_s);
   row("", "lockstep", "live");
   row("estimates", std::to_string(lockstep.estimates.size()), std::to_string(live.size()));
-  for (std::size_t i = 0; i < km.phases.size() && i < lm.phases.size(); ++i)
-    row(km.phases[i].name + ": localized after", metric(km.phases[i].time_to_localize_s, "%.2f", " s"),
-        metric(lm.phases[i].time_to_localize_s, "%.2f", " s"));
-  row("position RMSE once localized", metric(km.rmse_position_m, "%.3f", " m"), metric(lm.rmse_position_m, "%.3f", " m"));
-  row("max position error once localized", metric(km.max_position_error_m, "%.3f", " m"),
-      metric(lm.max_position_error_m, "%.3f", " m"));
-  row("heading RMSE once localized", metric(km.rmse_heading_deg, "%.2f", " deg"),
-      metric(lm.rmse_heading_deg, "%.2f", " deg"));
-  row("position RMSE over every estimate", metric(km.rmse_position_all_m, "%.3f", " m"),
-      metric(lm.rmse_position_all_m, "%.3f", " m"));
-  row("inputs rejected (counted)", std::to_string(lockstep_rejects), std::to_string(rejected));
+  metric_rows(km, lm, lockstep_rejects, rejected);
   std::printf("  live estimates paired with the lockstep's by stamp: %zu of %zu, %zu identical to the bit; worst "
               "difference %.4f m, %.4f rad\n",
               p.matched, lockstep.estimates.size(), p.identical, p.worst_m, p.worst_rad);

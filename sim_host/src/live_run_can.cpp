@@ -135,10 +135,7 @@ LiveResult run_live_robot_can(const SimResult& lockstep, const ScenarioConfig& s
   fs::create_directories(dir);
   const std::string log = (fs::path(out) / "run.lcmlog").string();
   const nlohmann::json sidecar = nlohmann::json::parse(read_text(log + ".json"));
-  std::string options = sidecar.at("estimator_node_options").get<std::string>();
-  const std::string replay = "--replay " + log;
-  if (options.compare(0, replay.size(), replay) != 0) throw std::runtime_error("--live: the sidecar is not this run's");
-  options = with_node_args(options.substr(replay.size()), o.node_args);
+  const std::string options = live_node_options(sidecar, log, o);
   const std::string player_exe = beside_exe(o.can_player_exe, "can_player");
   const fs::path recorded = dir / "inputs.lcmlog";
   fs::remove(recorded);
@@ -259,17 +256,7 @@ LiveResult run_live_robot_can(const SimResult& lockstep, const ScenarioConfig& s
               lockstep.description.c_str(), sc.duration_s, played_s, caught_up_s);
   row("", "lockstep", "live (CAN)");
   row("estimates", std::to_string(lockstep.estimates.size()), std::to_string(live.size()));
-  for (std::size_t i = 0; i < km.phases.size() && i < lm.phases.size(); ++i)
-    row(km.phases[i].name + ": localized after", metric(km.phases[i].time_to_localize_s, "%.2f", " s"),
-        metric(lm.phases[i].time_to_localize_s, "%.2f", " s"));
-  row("position RMSE once localized", metric(km.rmse_position_m, "%.3f", " m"), metric(lm.rmse_position_m, "%.3f", " m"));
-  row("max position error once localized", metric(km.max_position_error_m, "%.3f", " m"),
-      metric(lm.max_position_error_m, "%.3f", " m"));
-  row("heading RMSE once localized", metric(km.rmse_heading_deg, "%.2f", " deg"),
-      metric(lm.rmse_heading_deg, "%.2f", " deg"));
-  row("position RMSE over every estimate", metric(km.rmse_position_all_m, "%.3f", " m"),
-      metric(lm.rmse_position_all_m, "%.3f", " m"));
-  row("inputs rejected (counted)", std::to_string(lockstep_rejects), std::to_string(rejected));
+  metric_rows(km, lm, lockstep_rejects, rejected);
   std::printf("  live estimates paired with the lockstep's by their input: %zu of %zu (%zu with the same pose to the "
               "bit); difference RMS %.4f m, worst %.4f m, %.4f rad; live stamps later (the input's delay) by "
               "median %.3f ms, worst %.3f ms\n",

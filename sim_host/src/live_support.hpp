@@ -29,10 +29,13 @@
 
 #include "hal/lcm/lcm_convert.hpp"
 #include "node/lcm_log_io.hpp"
+#include "node/node_summary.hpp"
 #include "node/pacer.hpp"
 #include "sim/live_run.hpp"
 
 namespace sim::live {
+
+using node::summary_value;
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -76,6 +79,15 @@ inline std::string with_node_args(const std::string& options, const std::string&
   }
   for (const auto& m : more) r += " " + m.second;
   return r;
+}
+
+// The node's options of a lockstep run (its sidecar's, which start with `--replay LOG`) less the replay, with
+// --node-args in place of the options of the same names.
+inline std::string live_node_options(const nlohmann::json& sidecar, const std::string& log, const LiveOptions& o) {
+  const std::string options = sidecar.at("estimator_node_options").get<std::string>();
+  const std::string replay = "--replay " + log;
+  if (options.compare(0, replay.size(), replay) != 0) throw std::runtime_error("--live: the sidecar is not this run's");
+  return with_node_args(options.substr(replay.size()), o.node_args);
 }
 
 inline std::string node_exe(const LiveOptions& o) { return beside_exe(o.node_exe, "estimator_node"); }
@@ -254,19 +266,6 @@ inline Pairing pair_by_stamp(const std::vector<est_lcm::pose_estimate_t>& lockst
   return p;
 }
 
-// `key=` on the node summary's line that starts with `line`; -1 when absent.
-inline long long summary_value(const std::string& summary, const std::string& line, const std::string& key) {
-  std::istringstream in(summary);
-  std::string l;
-  while (std::getline(in, l)) {
-    if (l.compare(0, line.size(), line) != 0) continue;
-    const std::size_t at = l.find(" " + key + "=");
-    if (at == std::string::npos) return -1;
-    return std::atoll(l.c_str() + at + key.size() + 2);
-  }
-  return -1;
-}
-
 inline std::string fmt(const char* f, double v) {
   char b[64];
   std::snprintf(b, sizeof b, f, v);
@@ -278,6 +277,21 @@ inline void row(const std::string& what, const std::string& lockstep, const std:
 }
 
 inline std::string metric(double v, const char* f, const char* unit) { return v < 0.0 ? "-" : fmt(f, v) + unit; }
+
+// The rows of the metrics both live runs print beside the lockstep run's (km lockstep, lm live).
+inline void metric_rows(const SimMetrics& km, const SimMetrics& lm, long long lockstep_rejects, long long rejected) {
+  for (std::size_t i = 0; i < km.phases.size() && i < lm.phases.size(); ++i)
+    row(km.phases[i].name + ": localized after", metric(km.phases[i].time_to_localize_s, "%.2f", " s"),
+        metric(lm.phases[i].time_to_localize_s, "%.2f", " s"));
+  row("position RMSE once localized", metric(km.rmse_position_m, "%.3f", " m"), metric(lm.rmse_position_m, "%.3f", " m"));
+  row("max position error once localized", metric(km.max_position_error_m, "%.3f", " m"),
+      metric(lm.max_position_error_m, "%.3f", " m"));
+  row("heading RMSE once localized", metric(km.rmse_heading_deg, "%.2f", " deg"),
+      metric(lm.rmse_heading_deg, "%.2f", " deg"));
+  row("position RMSE over every estimate", metric(km.rmse_position_all_m, "%.3f", " m"),
+      metric(lm.rmse_position_all_m, "%.3f", " m"));
+  row("inputs rejected (counted)", std::to_string(lockstep_rejects), std::to_string(rejected));
+}
 
 inline nlohmann::json metrics_of(const SimMetrics& m, std::size_t estimates) {
   nlohmann::json j;

@@ -22,6 +22,7 @@
 #include <est_lcm/pose_estimate_t.hpp>
 
 #include "hal/status_word.hpp"
+#include "sim_host/node/node_summary.hpp"
 
 namespace est::test {
 
@@ -66,18 +67,7 @@ inline int run_command(const std::string& cmd, const std::string& output_path) {
   return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
 }
 
-// The value of `key=` on the summary line that starts with `line` (e.g. "  rejects.steering:"), -1 when absent.
-inline long long summary_value(const std::string& summary, const std::string& line, const std::string& key) {
-  std::istringstream in(summary);
-  std::string l;
-  while (std::getline(in, l)) {
-    if (l.compare(0, line.size(), line) != 0) continue;
-    const std::size_t at = l.find(" " + key + "=");
-    if (at == std::string::npos) return -1;
-    return std::atoll(l.c_str() + at + key.size() + 2);
-  }
-  return -1;
-}
+using ::node::summary_value;  // node/node_summary.hpp
 
 // The pose estimates of an LCM log, in order.
 inline std::vector<est_lcm::pose_estimate_t> read_estimates(const std::string& path,

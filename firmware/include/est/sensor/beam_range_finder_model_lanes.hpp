@@ -28,21 +28,7 @@ namespace est {
 inline float beam_range_finder_model(const ScanBeams& z, const BeamBearings& bearings, const BeamReadings& readings,
                                      const Pose2& x, const Pose2& mount, const LaneRayCaster& lanes,
                                      const BeamRangeFinderModel& model) {
-  const float floor_all = static_cast<float>(z.count) * kBeamLogDensityFloor;
-  if (!model.ready() || !x.is_finite() || !mount.is_finite() || !lanes.valid() || bearings.count != z.count ||
-      bearings.bins != lanes.bins() || !readings.matches(z.count, model))
-    return floor_all;
-  const SensorFrame f = sensor_frame(x, mount);
-  const float heading_bins = fmath::normalize_angle(x.theta + mount.theta) * lanes.bins_per_rad();
-  const float zm = model.params().range_max;
-  LogProduct q;
-  for (std::int32_t k = 0; k < z.count; ++k) {
-    const float dx = f.c * z.ux[k] - f.s * z.uy[k];
-    const float dy = f.s * z.ux[k] + f.c * z.uy[k];
-    const float z_exp = lanes.cast_bins(f.x, f.y, dx, dy, heading_bins + bearings.bins_of_beam[k], zm);
-    q.mul(model.density(readings.reading[k], z_exp));
-  }
-  return q.log();
+  return beam_range_finder_model_over_bins(z, bearings, readings, x, mount, lanes, model);
 }
 
 }  // namespace est

@@ -111,24 +111,33 @@ inline float beam_range_finder_model(const ScanBeams& z, const BeamBearings& bea
 // K 2^-24 + 2 ULP of the result of the exact sum of the per-beam log densities (tested), e.g. 2.2e-5 nats for
 // K = 360. Floors and refusals as above, and the readings must match the scan's beam count and the model's
 // parameters (else K * kBeamLogDensityFloor).
-inline float beam_range_finder_model(const ScanBeams& z, const BeamBearings& bearings, const BeamReadings& readings,
-                                     const Pose2& x, const Pose2& mount, const HeadingRangeTable& table,
-                                     const BeamRangeFinderModel& model) {
+// The loop of the overload below over any caster of heading bins (valid(), bins(), bins_per_rad(), cast_bins()):
+// the heading table here, the exact lane caster in beam_range_finder_model_lanes.hpp.
+template <typename BinCaster>
+inline float beam_range_finder_model_over_bins(const ScanBeams& z, const BeamBearings& bearings,
+                                               const BeamReadings& readings, const Pose2& x, const Pose2& mount,
+                                               const BinCaster& caster, const BeamRangeFinderModel& model) {
   const float floor_all = static_cast<float>(z.count) * kBeamLogDensityFloor;
-  if (!model.ready() || !x.is_finite() || !mount.is_finite() || !table.valid() || bearings.count != z.count ||
-      bearings.bins != table.bins() || !readings.matches(z.count, model))
+  if (!model.ready() || !x.is_finite() || !mount.is_finite() || !caster.valid() || bearings.count != z.count ||
+      bearings.bins != caster.bins() || !readings.matches(z.count, model))
     return floor_all;
   const SensorFrame f = sensor_frame(x, mount);
-  const float heading_bins = fmath::normalize_angle(x.theta + mount.theta) * table.bins_per_rad();
+  const float heading_bins = fmath::normalize_angle(x.theta + mount.theta) * caster.bins_per_rad();
   const float zm = model.params().range_max;
   LogProduct q;
   for (std::int32_t k = 0; k < z.count; ++k) {
     const float dx = f.c * z.ux[k] - f.s * z.uy[k];
     const float dy = f.s * z.ux[k] + f.c * z.uy[k];
-    const float z_exp = table.cast_bins(f.x, f.y, dx, dy, heading_bins + bearings.bins_of_beam[k], zm);
+    const float z_exp = caster.cast_bins(f.x, f.y, dx, dy, heading_bins + bearings.bins_of_beam[k], zm);
     q.mul(model.density(readings.reading[k], z_exp));
   }
   return q.log();
+}
+
+inline float beam_range_finder_model(const ScanBeams& z, const BeamBearings& bearings, const BeamReadings& readings,
+                                     const Pose2& x, const Pose2& mount, const HeadingRangeTable& table,
+                                     const BeamRangeFinderModel& model) {
+  return beam_range_finder_model_over_bins(z, bearings, readings, x, mount, table, model);
 }
 
 }  // namespace est
