@@ -270,3 +270,28 @@ TEST_CASE("CARMEN intel: the beam model's EM gives sane parameters and a higher 
   CHECK(b.range_max == Approx(81.83f));
   CHECK(b.log_likelihood_final > b.log_likelihood_initial + 0.1);
 }
+
+TEST_CASE("CARMEN stamps beyond an int64 of nanoseconds are refused, and a long odometry pause is not interpolated",
+          "[carmen]") {
+  // Synthetic (no dataset needed): the CARMEN fuzzer found a stamp of 5e27 s making ceil(gap / 0.25 s) overflow an
+  // int, and any long pause would have been filled with gap / 0.25 s interpolated poses.
+  const std::string out = temp_dir("stamps");
+  const std::string path = out + "/s.log";
+  {
+    std::ofstream f(path);
+    f << "FLASER 3 1 2 3 0 0 0 0 0 0 1.0 h 1.0\n";
+    f << "ODOM 0 0 0 0 0 0 1.0 h 1.0\n";
+    f << "ODOM 0.1 0 0 0 0 0 1.1 h 1.1\n";
+    f << "ODOM 0.2 0 0 0 0 0 5e27 h 1.2\n";
+    f << "FLASER 3 1 2 3 0 0 0 0 0 0 -4 h 1.3\n";
+    f << "ODOM 0.3 0 0 0 0 0 1000.0 h 1000.0\n";
+    f << "FLASER 3 1 2 3 0.3 0 0 0.3 0 0 1000.0 h 1000.0\n";
+  }
+  ImportReport report(OnError::skip, nullptr);
+  const CarmenImport r = import_carmen(path, out + "/s.lcmlog", {}, report);
+  CHECK(r.scans == 2);
+  CHECK(report.skipped().at("ODOM: timestamp outside 0 .. 9e9 s") == 1);
+  CHECK(report.skipped().at("FLASER: timestamp outside 0 .. 9e9 s") == 1);
+  CHECK(report.imported().at("odometry pauses over 60 s (not interpolated: the HAL drops the motion across)") == 1);
+  CHECK(report.imported().at("odometry poses interpolated across gaps") == 0);
+}

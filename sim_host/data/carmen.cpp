@@ -45,6 +45,8 @@ Pose between(const Pose& a, const Pose& b) {  // a^-1 (+) b
 }
 
 std::int64_t to_ns(double t_s) { return static_cast<std::int64_t>(std::llround(t_s * 1e9)); }
+constexpr double kMaxStamp = 9e9;    // s: nanosecond stamps fit an int64 to 9.2e9 s (the year 2262)
+constexpr double kMaxBridge = 60.0;  // s: a longer pause in the odometry is left to the HAL's gap limit
 
 // One ODOM line, or a scan, in line order, before the stamps are repaired.
 struct Entry {
@@ -103,6 +105,10 @@ CarmenData parse_carmen(const std::string& path, const CarmenImportOptions& o, I
       }
       if (!parse_all(f, 1, 7, v)) {
         report.bad_line(path, ln, "ODOM: a field is not a finite number");
+        continue;
+      }
+      if (v[6] < 0.0 || v[6] > kMaxStamp) {
+        report.bad_line(path, ln, "ODOM: timestamp outside 0 .. 9e9 s");
         continue;
       }
       Entry e;
@@ -176,6 +182,10 @@ CarmenData parse_carmen(const std::string& path, const CarmenImportOptions& o, I
       double t = 0.0;
       if (!ok || !parse_all(f, pose_at, 6, p) || !parse_double(f[t_at], t)) {
         report.bad_line(path, ln, type + ": a field is not a finite number");
+        continue;
+      }
+      if (t < 0.0 || t > kMaxStamp) {
+        report.bad_line(path, ln, type + ": timestamp outside 0 .. 9e9 s");
         continue;
       }
       // FLASER: laser pose = odometry pose = the corrected pose in these logs; ROBOTLASER1: the robot pose.
@@ -324,7 +334,7 @@ CarmenData parse_carmen(const std::string& path, const CarmenImportOptions& o, I
   // the SLAM correction); poses before the first scan have no reference and are not imported.
   Pose reference, raw;
   bool have_reference = false, started = false;
-  std::uint64_t resets = 0, before_first = 0, bridged = 0;
+  std::uint64_t resets = 0, before_first = 0, bridged = 0, unbridged = 0;
   const double max_gap = o.max_odometry_gap_s;
   for (const Entry& e : entries) {
     if (e.scan) continue;
@@ -351,7 +361,9 @@ CarmenData parse_carmen(const std::string& path, const CarmenImportOptions& o, I
     const Pose next = compose(raw, inc);
     const CarmenOdometry prev = data.odometry.back();  // a copy: the vector grows below
     const double gap = e.t - static_cast<double>(prev.t_ns) * 1e-9;
-    if (max_gap > 0.0 && gap > max_gap) {
+    if (max_gap > 0.0 && gap > kMaxBridge) {
+      ++unbridged;
+    } else if (max_gap > 0.0 && gap > max_gap) {
       const int pieces = static_cast<int>(std::ceil(gap / max_gap));
       for (int j = 1; j < pieces; ++j) {
         const double s = static_cast<double>(j) / pieces;
@@ -366,6 +378,7 @@ CarmenData parse_carmen(const std::string& path, const CarmenImportOptions& o, I
   report.count("ODOM stamp-0 lines (corrected pose after a scan: not odometry)", resets);
   report.count("ODOM lines before the first scan (no reference: not imported)", before_first);
   report.count("odometry poses interpolated across gaps", bridged);
+  if (unbridged > 0) report.count("odometry pauses over 60 s (not interpolated: the HAL drops the motion across)", unbridged);
   if (bridged > 0)
     report.note(std::to_string(bridged) + " odometry poses interpolated where the log's odometry pauses longer than " +
                 fixed(max_gap, 2) + " s (the HAL's gap limit would drop the motion across the pause)");
