@@ -37,13 +37,7 @@ namespace fs = std::filesystem;
 using est::test::slurp;
 
 std::string url_or_skip() {
-  const std::string url = "udpm://239.255.76.67:" + std::to_string(20000 + getpid() % 20000) + "?ttl=0";
-  if (!est::test::udpm_works(url)) {
-    std::fprintf(stderr, "SKIP: LCM udpm multicast does not work here (%s)\n", url.c_str());
-    std::fflush(stderr);
-    std::_Exit(77);
-  }
-  return url;
+  return est::test::udpm_url_or_skip();
 }
 
 int run(const std::string& args, const fs::path& log) {

@@ -56,13 +56,7 @@ std::string url_or_skip() {
     std::fflush(stderr);
     std::_Exit(77);
   }
-  const std::string url = "udpm://239.255.76.67:" + std::to_string(20000 + getpid() % 20000) + "?ttl=0";
-  if (!est::test::udpm_works(url)) {
-    std::fprintf(stderr, "SKIP: LCM udpm multicast does not work here (%s)\n", url.c_str());
-    std::fflush(stderr);
-    std::_Exit(77);
-  }
-  return url;
+  return est::test::udpm_url_or_skip();
 }
 
 }  // namespace

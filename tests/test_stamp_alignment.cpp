@@ -208,12 +208,7 @@ long long summary_sum(const std::string& summary, const std::string& prefix, con
 // its sender stamp, so the two are matched by stamp). Measured on this 10 s log: 1000 of 1000, identical to the bit.
 TEST_CASE("lcm-logplayer of a sim_host record log into a live node at 1x gives the --replay estimates, none stale",
           "[alignment][process]") {
-  const std::string url = "udpm://239.255.76.67:" + std::to_string(20000 + getpid() % 20000) + "?ttl=0";
-  if (!udpm_works(url)) {
-    std::fprintf(stderr, "SKIP: LCM udpm multicast does not work here (%s)\n", url.c_str());
-    std::fflush(stderr);
-    std::_Exit(77);
-  }
+  const std::string url = udpm_url_or_skip();
   const ScratchDir dir("est_stamp_alignment");
   const std::string d = dir.path.string() + "/";
   REQUIRE(run_command(kSim + " record --out " + d + "run.lcmlog --duration 10 --faults none --seed 4", d + "rec.txt") ==

@@ -130,19 +130,7 @@ class NodeProcess {
   int stop() {
     if (pid_ <= 0) return exit_;
     kill(pid_, SIGINT);
-    int status = 0;
-    const auto end = Clock::now() + std::chrono::seconds(10);
-    while (waitpid(pid_, &status, WNOHANG) == 0) {
-      if (Clock::now() > end) {
-        kill(pid_, SIGKILL);
-        waitpid(pid_, &status, 0);
-        break;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    pid_ = -1;
-    exit_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return exit_;
+    return wait(10.0);
   }
   // Waits for it to exit on its own (SIGKILL after `seconds`); the exit status (-1: killed by a signal).
   int wait(double seconds) {

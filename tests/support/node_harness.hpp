@@ -125,6 +125,18 @@ inline bool udpm_works(const std::string& url) {
   return heard.any;
 }
 
+// A udpm URL on a port of this process's own (tests running side by side do not hear each other), or exit 77 (ctest's
+// SKIP) with the reason when multicast does not work here.
+inline std::string udpm_url_or_skip() {
+  const std::string url = "udpm://239.255.76.67:" + std::to_string(20000 + getpid() % 20000) + "?ttl=0";
+  if (!udpm_works(url)) {
+    std::fprintf(stderr, "SKIP: LCM udpm multicast does not work here (%s)\n", url.c_str());
+    std::fflush(stderr);
+    std::_Exit(77);
+  }
+  return url;
+}
+
 inline double wrap_angle(double a) { return std::remainder(a, 2.0 * 3.14159265358979323846); }
 
 }  // namespace est::test
