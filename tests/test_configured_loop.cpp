@@ -41,6 +41,10 @@ struct EkfRig {  // no kMaxParticles: an EKF has none
   static constexpr est::loop::LoopTiming kTiming{10 * kMs, 20 * kMs, limits(400 * kMs), 5 * kMs, 100};
 };
 
+struct JointEkfRig : EkfRig {  // joint association compiled in (est/loop/ekf_estimator.hpp)
+  static constexpr int kJointSightings = 8;
+};
+
 using Mcl = est::loop::ConfiguredLoop<MclRig>;
 using Steered = est::loop::ConfiguredLoop<SteeredRig>;
 using Ekf = est::loop::ConfiguredLoop<EkfRig>;
@@ -52,6 +56,13 @@ static_assert(std::is_same_v<Steered::Estimator,
 static_assert(std::is_same_v<Mcl::Loop, est::loop::FilterLoopStorage<Mcl::Estimator, 32, 60, 2>>);
 static_assert(std::is_base_of_v<est::loop::FilterLoop<Mcl::Estimator>, Mcl::Loop>);
 static_assert(std::is_same_v<Ekf::Estimator, est::loop::EkfEstimator<est::DiffDriveMotionModel>>);
+static_assert(!Ekf::Estimator::kJointAssociation);  // without kJointSightings: no joint association in the type
+static_assert(std::is_same_v<est::loop::ConfiguredLoop<JointEkfRig>::Estimator,
+                             est::loop::EkfEstimator<est::DiffDriveMotionModel, 8>>);
+static_assert(std::is_same_v<
+              est::loop::ConfiguredLoop<est::loop::LoopConfig<est::DiffDriveMotionModel, est::loop::Filter::ekf, 0u, 1,
+                                                              32u, 1u, est::loop::LikelihoodFieldScan, 8>>::Estimator,
+              est::loop::EkfEstimator<est::DiffDriveMotionModel, 8>>);
 static_assert(std::is_same_v<Ekf::EstimatorConfig, est::loop::EkfEstimatorConfig<est::DiffDriveMotionModel>>);
 static_assert(std::is_same_v<Mcl::EstimatorConfig, est::loop::MclEstimatorConfig<est::BicycleMotionModel>>);
 static_assert(Mcl::kTiming.staleness[est::loop::InputKind::landmark] == 1000 * kMs);

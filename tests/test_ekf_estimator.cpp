@@ -21,6 +21,9 @@ using est::loop::TimeNs;
 constexpr TimeNs kMs = 1000000;
 using DiffEstimator = est::loop::EkfEstimator<est::DiffDriveMotionModel>;
 using DiffLoop = est::loop::FilterLoopStorage<DiffEstimator, 64, 1, 1>;
+// With joint association's capacity, as the host programs build it.
+using JointEstimator = est::loop::EkfEstimator<est::DiffDriveMotionModel, est::loop::kHostJointSightings>;
+using JointLoop = est::loop::FilterLoopStorage<JointEstimator, 64, 1, 1>;
 
 // Two-wheel encoder increments (wheel 0 left, or the bicycle's traction wheel).
 est::loop::WheelTicksInput ticks(TimeNs t, std::int32_t w0, std::int32_t w1) {
@@ -479,9 +482,9 @@ TEST_CASE("joint association fuses a camera frame by JCBB where one sighting at 
     auto c = diff_config();
     c.noise = {0.05f, 0.01f, 0.0f};
     c.joint_association = joint;
-    DiffEstimator ekf(c, map);
+    JointEstimator ekf(c, map);
     REQUIRE(ekf.initialize_at({0.0f, 0.0f, 0.0f}, 0.4f, 0.02f));
-    DiffLoop loop(ekf, est::loop::LoopTiming{});
+    JointLoop loop(ekf, est::loop::LoopTiming{});
     StepClock clock;
     Outputs out;
     loop.push(ticks(10 * kMs, 0, 0));
@@ -503,4 +506,26 @@ TEST_CASE("joint association fuses a camera frame by JCBB where one sighting at 
       CHECK(ekf.joint_counters().frames == 0u);
     }
   }
+}
+
+TEST_CASE("joint association is a capacity of the type: without it nothing is stored and a configuration asking for "
+          "it is refused", "[ekf_estimator]") {
+  // The frame buffer and the search's storage are in the type with the capacity only (the board's EKF image pays
+  // nothing for a feature it does not use); the type without it refuses to start rather than associate otherwise.
+  using Search = est::JointCompatibility<est::loop::kHostJointSightings, JointEstimator::kCandidates>;
+  static_assert(!DiffEstimator::kJointAssociation && JointEstimator::kJointAssociation);
+  CHECK(sizeof(DiffEstimator) + sizeof(Search) + sizeof(est::loop::LandmarkInput) * est::loop::kHostJointSightings <=
+        sizeof(JointEstimator));
+  auto c = diff_config();
+  c.joint_association = true;
+  DiffEstimator without(c, kMap);
+  CHECK_FALSE(without.initialize_at({0.0f, 0.0f, 0.0f}, 0.4f, 0.02f));
+  CHECK_FALSE(without.initialized());
+  CHECK_FALSE(without.frame_pending());
+  CHECK(without.joint_counters().frames == 0u);
+  JointEstimator with(c, kMap);
+  CHECK(with.initialize_at({0.0f, 0.0f, 0.0f}, 0.4f, 0.02f));
+  c.joint_association = false;
+  DiffEstimator plain(c, kMap);
+  CHECK(plain.initialize_at({0.0f, 0.0f, 0.0f}, 0.4f, 0.02f));
 }

@@ -9,8 +9,8 @@
 //   TeamWindow<4, 8>          8 steps x 4 messages of 576 bytes         18 584 bytes
 //   CoopEkfEstimator<2, 1>    n = 6                                      1 544 bytes
 //   TeamWindow<2, 8>          8 steps x 2 messages                       9 368 bytes
-// One step of CoopEkfEstimator<4, 12> with 60 range-and-bearing measurements is ~1.44 M instructions on the board
-// (bench-ekf), so the section's 60 such steps are ~90 M instructions, about half a second under qemu.
+// One step of CoopEkfEstimator<4, 12> with 60 range-and-bearing measurements is ~0.70 M instructions on the board
+// (bench-ekf), so the section's 60 such steps are ~42 M instructions, a quarter of a second under qemu.
 
 #include <cstdint>
 

@@ -15,7 +15,7 @@ constexpr Section kSections[] = {
     {"sensors", section_sensors, 0x473631f183c83d2eull},
     {"beam_table", section_beam_table, 0xcb7de31e0c02c7a1ull},
     {"motion_a", digest_of<section_motion_a>, 0x651a71140c8e686eull, section_motion_a},
-    {"ekf", digest_of<section_ekf>, 0xb98963085dc4cd65ull, section_ekf},
+    {"ekf", digest_of<section_ekf>, 0x2dd3334a6b0cb290ull, section_ekf},
     {"mcl", digest_of<section_mcl>, 0xabc6252fa09c079dull, section_mcl},
     {"mcl_recovery", digest_of<section_mcl_recovery>, 0xdb4d7895ed746455ull, section_mcl_recovery},
     {"loop", digest_of<section_loop>, 0x870db31cd4493ac9ull, section_loop},
@@ -26,7 +26,7 @@ constexpr Section kSections[] = {
     {"loop_omni", digest_of<section_loop_omni>, 0x3e907e424f4e37b4ull, section_loop_omni},
     {"loop_holonomic", digest_of<section_loop_holonomic>, 0x1c686210d16283bcull, section_loop_holonomic},
     {"loop_steered", digest_of<section_loop_steered>, 0xdecfbbe8d0ddf03full, section_loop_steered},
-    {"coop_ekf", section_coop_ekf, 0xbc783a5dca41b094ull},
+    {"coop_ekf", section_coop_ekf, 0xc0451a131d4be0f9ull},
 };
 
 }  // namespace

@@ -153,7 +153,8 @@ template <typename Model, est::loop::Filter F, typename ScanModel>
 class PipelineImpl final : public EstimatorPipeline {
  public:
   using Configured = est::loop::ConfiguredLoop<
-      est::loop::LoopConfig<Model, F, kMaxParticles, kMaxBeams, kQueueCapacity, kScanSlots, ScanModel>>;
+      est::loop::LoopConfig<Model, F, kMaxParticles, kMaxBeams, kQueueCapacity, kScanSlots, ScanModel,
+                            est::loop::kHostJointSightings>>;  // the EKF with joint association (--joint-association)
   using Estimator = typename Configured::Estimator;
   static constexpr bool kMcl = F == est::loop::Filter::mcl;
 

@@ -10,6 +10,8 @@
 //                                                               // BeamScan<Caster>, SteeredScan<...>
 //     static constexpr std::uint32_t kMaxParticles = 2048;      // MCL only
 //     static constexpr std::int32_t kMaxBeams = 360;            // scan capacity (an EKF rig: 1, it drops scans)
+//     static constexpr int kJointSightings = 8;                 // EKF only, optional (default 0: no joint
+//                                                               // association compiled in, est/loop/ekf_estimator.hpp)
 //     static constexpr std::uint32_t kQueueCapacity = 64;       // inputs pending within the reorder window
 //     static constexpr std::uint32_t kScanSlots = 2;
 //     static constexpr est::loop::LoopTiming kTiming{};         // 100 Hz predict, 20 ms window, staleness limits
@@ -43,6 +45,15 @@ struct ScanModelOf<Config, std::void_t<typename Config::ScanModel>> {
   using type = typename Config::ScanModel;
 };
 
+template <typename Config, typename = void>
+struct JointSightingsOf {
+  static constexpr int value = 0;
+};
+template <typename Config>
+struct JointSightingsOf<Config, std::void_t<decltype(Config::kJointSightings)>> {
+  static constexpr int value = Config::kJointSightings;
+};
+
 template <typename Config, Filter F>
 struct EstimatorOf;
 template <typename Config>
@@ -53,7 +64,7 @@ struct EstimatorOf<Config, Filter::mcl> {
 };
 template <typename Config>
 struct EstimatorOf<Config, Filter::ekf> {  // kMaxParticles and ScanModel are not needed
-  using type = EkfEstimator<typename Config::Model>;
+  using type = EkfEstimator<typename Config::Model, JointSightingsOf<Config>::value>;
   using config = EkfEstimatorConfig<typename Config::Model>;
 };
 }  // namespace detail
@@ -76,7 +87,7 @@ struct ConfiguredLoop {
 // A config struct from template arguments, for host programs that choose the model, the filter and the range model
 // at run time among a few instantiations (estimator_node, sim_host) and pass their run-time timing to the loop.
 template <typename RobotModel, Filter F, std::uint32_t MaxParticles, std::int32_t MaxBeams, std::uint32_t QueueCapacity,
-          std::uint32_t ScanSlots, typename Range = LikelihoodFieldScan>
+          std::uint32_t ScanSlots, typename Range = LikelihoodFieldScan, int JointSightings = 0>
 struct LoopConfig {
   using Model = RobotModel;
   using ScanModel = Range;
@@ -85,6 +96,7 @@ struct LoopConfig {
   static constexpr std::int32_t kMaxBeams = MaxBeams;
   static constexpr std::uint32_t kQueueCapacity = QueueCapacity;
   static constexpr std::uint32_t kScanSlots = ScanSlots;
+  static constexpr int kJointSightings = JointSightings;
   static constexpr LoopTiming kTiming{};
 };
 

@@ -10,11 +10,16 @@
 // belief is kept; a belief whose position standard deviation grew beyond `lost_sigma_m` is reported `degenerate`
 // (dead reckoning without landmarks for too long: the Gaussian no longer localizes the robot).
 //
-// With `joint_association`, features without a correspondence are not associated one at a time (table 7.3) but per
-// sensor frame, the features sharing a stamp, by joint compatibility (est/assoc/jcbb.hpp): they are gathered by
-// correct() and fused, each with the landmark its frame's assignment gave it, by end_of_frame() (the loop calls it
-// after the last input of a stamp), or by the next predict() or a feature of another stamp. A frame of more than
-// kFrameSightings features is associated in parts of that many (counted as split).
+// Joint association is a capacity of the type: EkfEstimator<Model, JointSightings> with JointSightings > 0 holds a
+// frame of that many features and the search of est/assoc/jcbb.hpp; with 0 (the default) neither is compiled in, and
+// a board image that does not associate jointly pays no flash, RAM or stack for it (the EKF reference image on the
+// M4F: flash 42 880 -> 34 624 B, RAM 9 332 -> 6 260 B, a step's stack bound 1 532 -> 1 148 B). With
+// `joint_association` set (which a type without the capacity refuses: initialize_at() returns false), features
+// without a correspondence are not associated one at a time (table 7.3) but per sensor frame, the features sharing a
+// stamp, by joint compatibility: they are gathered by correct() and fused, each with the landmark its frame's
+// assignment gave it, by end_of_frame() (the loop calls it after the last input of a stamp), or by the next
+// predict() or a feature of another stamp. A frame of more than JointSightings features is associated in parts of
+// that many (counted as split).
 #include <cstdint>
 
 #include "est/assoc/jcbb.hpp"
@@ -39,6 +44,7 @@ struct EkfEstimatorConfig {
   float lost_sigma_m = 5.0f;  // position standard deviation (the larger axis) above which the belief is degenerate
   bool sensor_ids = true;     // false: the sensor's ids are ignored, every feature is associated by table 7.3
   bool joint_association = false;  // features without an id: associated per frame by JCBB instead of table 7.3
+                                   // (needs an EkfEstimator with JointSightings > 0)
   JcbbParams jcbb{};
 };
 
@@ -54,15 +60,36 @@ struct JointAssociationCounters {
   std::uint32_t candidates_dropped = 0;  // individually compatible landmarks beyond kCandidates
 };
 
-template <typename Model>
+namespace detail {
+// Joint association's storage: the frame gathered, the search, its counts; nothing without the capacity.
+template <int Sightings, int Candidates>
+struct JointAssociationState {
+  JointCompatibility<Sightings, Candidates> jcbb;
+  LandmarkInput frame[static_cast<unsigned>(Sightings)];
+  int n = 0;
+  JointAssociationCounters counters{};
+};
+template <int Candidates>
+struct JointAssociationState<0, Candidates> {
+  static constexpr int n = 0;
+  static constexpr JointAssociationCounters counters{};
+};
+}  // namespace detail
+
+// The host programs' capacity (estimator_node, sim_host, the evaluations): frames of up to 8 features.
+inline constexpr int kHostJointSightings = 8;
+
+template <typename Model, int JointSightings = 0>
 class EkfEstimator {
   static_assert(Model::kStateDim == 3, "the loop's EKF estimates a pose (x, y, theta)");
+  static_assert(JointSightings >= 0, "a capacity");
 
  public:
   using Filter = EkfLocalization<Model>;
   using Assembler = ControlAssembler<Model>;
-  static constexpr int kFrameSightings = 8;  // features associated jointly (more in one frame: in parts)
+  static constexpr int kFrameSightings = JointSightings;  // features associated jointly (more in one frame: in parts)
   static constexpr int kCandidates = 4;      // landmarks kept per feature for the joint search, nearest first
+  static constexpr bool kJointAssociation = JointSightings > 0;
 
   EkfEstimator(const EkfEstimatorConfig<Model>& config, const LandmarkMap& map)
       : config_(config), ekf_(config.ekf), map_(map) {}
@@ -70,7 +97,9 @@ class EkfEstimator {
   InputKinds inputs() const { return Assembler::inputs(config_.control) | InputKind::landmark; }
 
   // A Gaussian start; false (and still uninitialized) when the pose or the deviations are not finite and positive.
+  // Also false when the configuration asks for joint association and the type has no capacity for it.
   bool initialize_at(const Pose2& pose, float sigma_xy, float sigma_theta) {
+    if (config_.joint_association && !kJointAssociation) return false;
     if (!(sigma_xy > 0.0f) || !(sigma_theta > 0.0f) || !fmath::isfinite(sigma_xy) || !fmath::isfinite(sigma_theta))
       return false;
     typename Filter::Covariance cov = Filter::Covariance::Zero();
@@ -84,7 +113,7 @@ class EkfEstimator {
   // Table 7.2 lines 2-7 over the motion since the last prediction.
   StepOutcome predict(const MotionInput& m) {
     if (!initialized_) return StepOutcome::rejected;
-    if (frame_n_ > 0) end_of_frame();  // the loop has fused it already (end_of_frame); a caller without one
+    if (frame_pending()) end_of_frame();  // the loop has fused it already (end_of_frame); a caller without one
     typename Model::Params p = config_.motion;
     typename Model::Control u{};
     const ControlStatus c = Assembler::make(m, config_.control, p, u);
@@ -99,7 +128,8 @@ class EkfEstimator {
     if (!initialized_) return StepOutcome::rejected;
     const LandmarkMeasurement f{z.range_m, z.bearing_rad, z.signature};
     const bool known = z.id >= 0 && config_.sensor_ids;
-    if (!known && config_.joint_association) return gather(z);
+    if constexpr (kJointAssociation)
+      if (!known && config_.joint_association) return gather(z);
     const LandmarkNoise noise = noise_at(z.range_m);
     const CorrectionResult r = known ? ekf_.correct_range_bearing(f, map_, z.id, noise)
                                      : ekf_.correct_range_bearing_unknown(f, map_, noise).correction;
@@ -107,40 +137,11 @@ class EkfEstimator {
     return lost() ? StepOutcome::degenerate : StepOutcome::applied;
   }
 
-  // Fuses the gathered frame: JCBB's assignment, then each paired feature with its landmark (table 7.2 lines
-  // 8-20, one at a time). Rejected when no feature of the frame was fused.
+  // Fuses the frame gathered (fuse_frame()); the loop calls it after the last input of a stamp. Without the capacity
+  // there is never a frame.
   StepOutcome end_of_frame() {
-    if (frame_n_ <= 0) return StepOutcome::applied;
-    JcbbSighting s[kFrameSightings];
-    for (int i = 0; i < frame_n_; ++i) {
-      const LandmarkNoise n = noise_at(frame_[i].range_m);
-      s[i] = {frame_[i].range_m, frame_[i].bearing_rad, n.sigma_range, n.sigma_bearing};
-    }
-    const int n = frame_n_;
-    frame_n_ = 0;
-    const auto a = jcbb_.associate(ekf_.mean_vector(), ekf_.covariance(), s, n, map_, config_.jcbb);
-    ++joint_.frames;
-    joint_.features += static_cast<std::uint32_t>(n);
-    joint_.candidates_dropped += a.candidates_dropped;
-    if (a.node_cap_hit) ++joint_.node_cap_hits;
-    // The ambiguity test of table 7.3's (EkfLocalization::Params::ambiguity_nats), for the frame: when the
-    // runner-up assignment's log likelihood is within that margin, only the pairings both make are fused.
-    const bool ambiguous = a.has_runner_up && 0.5f * (a.runner_up_nis - a.joint_nis) < config_.ekf.ambiguity_nats;
-    if (ambiguous) ++joint_.ambiguous_frames;
-    std::int32_t fused = 0;
-    for (int i = 0; i < n; ++i) {
-      std::int32_t j = a.ok ? a.landmark_of[i] : -1;
-      if (ambiguous && j != a.runner_up_of[i]) j = -1;
-      if (j < 0) {
-        ++joint_.unpaired;
-        continue;
-      }
-      ++joint_.paired;
-      const LandmarkMeasurement f{frame_[i].range_m, frame_[i].bearing_rad, frame_[i].signature};
-      if (accepted(ekf_.correct_range_bearing(f, map_, j, noise_at(frame_[i].range_m)).status)) ++fused;
-    }
-    if (fused == 0) return StepOutcome::rejected;
-    return lost() ? StepOutcome::degenerate : StepOutcome::applied;
+    if constexpr (kJointAssociation) return fuse_frame();
+    else return StepOutcome::applied;
   }
 
   PoseEstimate estimate() const {
@@ -154,10 +155,49 @@ class EkfEstimator {
 
   bool initialized() const { return initialized_; }
   const Filter& filter() const { return ekf_; }
-  const JointAssociationCounters& joint_counters() const { return joint_; }
-  bool frame_pending() const { return frame_n_ > 0; }
+  const JointAssociationCounters& joint_counters() const { return joint_.counters; }
+  bool frame_pending() const { return joint_.n > 0; }
 
  private:
+  // Fuses the gathered frame: JCBB's assignment, then each paired feature with its landmark (table 7.2 lines
+  // 8-20, one at a time). Rejected when no feature of the frame was fused.
+  StepOutcome fuse_frame() {
+    auto& st = joint_;
+    if (st.n <= 0) return StepOutcome::applied;
+    JcbbSighting s[static_cast<unsigned>(kFrameSightings)];
+    for (int i = 0; i < st.n; ++i) {
+      const LandmarkNoise n = noise_at(st.frame[i].range_m);
+      s[i] = {st.frame[i].range_m, st.frame[i].bearing_rad, n.sigma_range, n.sigma_bearing};
+    }
+    const int n = st.n;
+    st.n = 0;
+    const auto a = st.jcbb.associate(ekf_.mean_vector(), ekf_.covariance(), s, n, map_, config_.jcbb);
+    JointAssociationCounters& c = st.counters;
+    ++c.frames;
+    c.features += static_cast<std::uint32_t>(n);
+    c.candidates_dropped += a.candidates_dropped;
+    if (a.node_cap_hit) ++c.node_cap_hits;
+    // The ambiguity test of table 7.3's (EkfLocalization::Params::ambiguity_nats), for the frame: when the
+    // runner-up assignment's log likelihood is within that margin, only the pairings both make are fused.
+    const bool ambiguous = a.has_runner_up && 0.5f * (a.runner_up_nis - a.joint_nis) < config_.ekf.ambiguity_nats;
+    if (ambiguous) ++c.ambiguous_frames;
+    std::int32_t fused = 0;
+    for (int i = 0; i < n; ++i) {
+      std::int32_t j = a.ok ? a.landmark_of[i] : -1;
+      if (ambiguous && j != a.runner_up_of[i]) j = -1;
+      if (j < 0) {
+        ++c.unpaired;
+        continue;
+      }
+      ++c.paired;
+      const LandmarkInput& z = st.frame[i];
+      const LandmarkMeasurement f{z.range_m, z.bearing_rad, z.signature};
+      if (accepted(ekf_.correct_range_bearing(f, map_, j, noise_at(z.range_m)).status)) ++fused;
+    }
+    if (fused == 0) return StepOutcome::rejected;
+    return lost() ? StepOutcome::degenerate : StepOutcome::applied;
+  }
+
   LandmarkNoise noise_at(float range_m) const {
     LandmarkNoise noise = config_.noise;
     if (config_.sigma_range_per_m > 0.0f && range_m > 0.0f) noise.sigma_range += config_.sigma_range_per_m * range_m;
@@ -167,13 +207,14 @@ class EkfEstimator {
   // Joint association: a feature joins the frame of its stamp; a feature of another stamp, or one beyond the
   // frame's capacity, first fuses the frame gathered so far. The outcome of a gathered feature is its frame's.
   StepOutcome gather(const LandmarkInput& z) {
+    auto& st = joint_;
     StepOutcome o = StepOutcome::applied;
-    if (frame_n_ > 0 && z.t_ns != frame_[0].t_ns) o = end_of_frame();
-    if (frame_n_ >= kFrameSightings) {
-      ++joint_.split_frames;
-      o = end_of_frame();
+    if (st.n > 0 && z.t_ns != st.frame[0].t_ns) o = fuse_frame();
+    if (st.n >= kFrameSightings) {
+      ++st.counters.split_frames;
+      o = fuse_frame();
     }
-    frame_[frame_n_++] = z;
+    st.frame[st.n++] = z;
     return o;
   }
 
@@ -186,10 +227,7 @@ class EkfEstimator {
   Filter ekf_;
   LandmarkMap map_;
   bool initialized_ = false;
-  JointCompatibility<kFrameSightings, kCandidates> jcbb_;
-  LandmarkInput frame_[kFrameSightings];
-  int frame_n_ = 0;
-  JointAssociationCounters joint_{};
+  detail::JointAssociationState<JointSightings, kCandidates> joint_{};
 };
 
 }  // namespace est::loop

@@ -11,7 +11,8 @@
 //
 // Prediction: each robot's block through its model's G, V, M (table 10.1 lines 3-5, with F_x replaced by the robot's
 // rows): P_aa = G P_aa G^T + V M V^T, P_a* = G P_a*; O(n D^2) per robot, and only the noise is added when G = I.
-// Measurements (each fused on its own, Joseph form, est/filter/sparse_joseph_update.hpp, O(n^2 m)):
+// Measurements (each fused on its own, P+ = P - K S K^T formed as a Gram matrix W W^T on the upper triangle,
+// est/filter/sparse_joseph_update.hpp's factored form, O(n^2 m) with m products per entry):
 //   robot-robot range           |p_b - p_a|           H touches robots a and b
 //   robot-landmark range        |m_k - p_a|           H touches robot a and landmark k (range-only, the exercise)
 //   robot-landmark range/bearing (eq. 7.12)           H touches robot a and landmark k
@@ -301,7 +302,7 @@ class CooperativeEkfSlam {
     nu(0) = innovation;
     Q(0, 0) = sigma * sigma;
     const CorrectionResult r =
-        sparse_joseph_update<N, 1>(mu_, P_, dim(), H, nu, Q, params_.gate.chi2_1dof, params_.guard, angle_);
+        sparse_factored_update<N, 1>(mu_, P_, dim(), H, nu, Q, params_.gate.chi2_1dof, params_.guard, angle_);
     last_nis_ = r.nis;
     return count(r);
   }
@@ -319,7 +320,7 @@ class CooperativeEkfSlam {
     H.template add<2>(target, h.H_landmark);
     const Eigen::Vector2f nu(range - h.z(0), fmath::normalize_angle(bearing - h.z(1)));
     const CorrectionResult r =
-        sparse_joseph_update<N, 2>(mu_, P_, dim(), H, nu, Q, params_.gate.chi2_2dof, params_.guard, angle_);
+        sparse_factored_update<N, 2>(mu_, P_, dim(), H, nu, Q, params_.gate.chi2_2dof, params_.guard, angle_);
     last_nis_ = r.nis;
     return r;
   }

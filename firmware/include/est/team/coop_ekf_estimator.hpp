@@ -9,10 +9,11 @@
 // One step: (1) every robot is predicted, with its own control when its message is in, and when it is not (the
 // message was lost, or the robot stopped sending) with u = 0 and the noise of a robot moving at up to
 // unknown_speed_mps in any direction: its position spreads until its messages come back, and it rejoins with its
-// next message (counted); (2) every message's measurements are fused, Joseph form, one at a time: range, or range
-// and bearing (world frame: point robots have no heading), to a robot with its id, or to a landmark with its id. A
-// landmark not yet in the state enters from its first range and bearing (table 10.1 lines 9-10), or from ranges of
-// spread positions when range only; landmarks given a prior (the exercise's initial estimate) start there.
+// next message (counted); (2) every message's measurements are fused one at a time (the factored update of
+// est/filter/sparse_joseph_update.hpp): range, or range and bearing (world frame: point robots have no heading),
+// to a robot with its id, or to a landmark with its id. A landmark not yet in the state enters from its first range
+// and bearing (table 10.1 lines 9-10), or from ranges of spread positions when range only; landmarks given a prior
+// (the exercise's initial estimate) start there.
 // Anonymous sightings carry no correspondence this filter could use: they are counted and skipped (the three-robot
 // filter, est/team/anonymous_team_mcl.hpp, resolves them). Controls of another kind than holonomic are refused and
 // counted, and the robot is predicted as if its control were missing.
