@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "scratch_dir.hpp"
 #include "sim/builtin_scenarios.hpp"
 #include "sim/scenario_file.hpp"
 #include "sim/sensor_stream.hpp"
@@ -83,6 +84,29 @@ TEST_CASE("a malformed scenario is refused with its file, line, column and reaso
       // the absent key's node, a null reference).
       {"[sensors.rangefinder]\np_rand = 0.999\n", "f.toml:1:1: ", "p_rand + p_short must be <= 1"},
       {"[sensors.rangefinder]\np_rand = 0.5\np_short = 0.6\n", "f.toml:3:11: ", "p_rand + p_short must be <= 1"},
+      // Control scripts (robot.controls): each command in the model's terms, times increasing, values in range.
+      {"[world]\nroute = [[1, 2], [3, 4]]\n[robot]\ncontrols = [[0, 0.5, 0.1]]\n", "f.toml:4:12: ",
+       "robot.controls: a robot follows world.route or a control script, not both"},
+      {"[robot]\ncontrols = [[0, 0.5]]\n", "f.toml:2:13: ",
+       "the bicycle robot's command is [t_s, v_mps, steer_rad] (3 numbers), got 2"},
+      {"[robot]\nmodel = \"omni\"\ncontrols = [[0, 0.5, 0.1]]\n", "f.toml:3:13: ",
+       "the omni robot's command is [t_s, v1_mps, v2_mps, w_rps] (4 numbers), got 3"},
+      {"[robot]\nmodel = \"velocity\"\ncontrols = [[0, 0.5, 0], [5, 0.5, 0.2], [4, 0, 0]]\n", "f.toml:3:42: ",
+       "robot.controls: t_s must be after the previous command's 5 s (got 4)"},
+      {"[robot]\ncontrols = [[0, 0.5, 1.6]]\n", "f.toml:2:22: ", "steer_rad must be within the steering stops"},
+      {"[robot]\nmodel = \"velocity\"\ncontrols = [[0, 4, 0]]\n", "f.toml:3:17: ", "v_mps must be in [-3, 3] m/s"},
+      {"[robot]\nmodel = \"diff-drive\"\ncontrols = [[0, 1, -3.5]]\n", "f.toml:3:20: ",
+       "w_rps must be in [-3, 3] rad/s"},
+      {"[robot]\nmodel = \"holonomic\"\ncontrols = [[-1, 0.1, 0]]\n", "f.toml:3:14: ", "t_s must be in [0, 3600] s"},
+      {"[robot]\nmodel = \"velocity\"\ncontrols = [[0, \"fast\", 0]]\n", "f.toml:3:17: ",
+       "robot.controls: expected a number, got a string"},
+      {"[robot]\ncontrols = 5\n", "f.toml:2:12: ", "robot.controls: expected an array of commands"},
+      {"[robot]\ncontrols = [0, 0.5, 0]\n", "f.toml:2:13: ", "robot.controls: each command is [t_s, v_mps, steer_rad]"},
+      {"[robot]\nmodel = \"velocity\"\ncontrols = [[0, 0.5, 0]]\n[faults]\nkidnap_at_s = 10\n", "f.toml:5:15: ",
+       "a kidnapping carries the robot along its route"},
+      {"[world]\nmap = \"lab.yaml\"\n[robot]\nmodel = \"velocity\"\ncontrols = [[0, 0.5, 0]]\n", "f.toml:5:12: ",
+       "robot.start_pose is required with a control script in a map"},
+      {"[robot]\nstart_pose = [1, 2]\n", "f.toml:2:14: ", "robot.start_pose: expected 3 numbers, got 2"},
   };
   for (const Case& c : cases) {
     INFO(c.text);
@@ -96,6 +120,85 @@ TEST_CASE("a malformed scenario is refused with its file, line, column and reaso
     CHECK(e.find(c.reason) != std::string::npos);
     CHECK(e.find('\n') == std::string::npos);  // one line
   }
+}
+
+TEST_CASE("a control script's CSV file is refused with its own file, line, column and reason", "[scenario]") {
+  const est::test::ScratchDir dir("scenario_controls_csv");
+  const auto refused = [&](const std::string& csv) {
+    std::ofstream(dir.path / "ctl.csv", std::ios::binary) << csv;
+    std::ofstream(dir.path / "s.toml") << "[robot]\nmodel = \"velocity\"\ncontrols = \"ctl.csv\"\n";
+    try {
+      sim::read_scenario_file((dir.path / "s.toml").string());
+    } catch (const sim::ScenarioFileError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string at = (dir.path / "ctl.csv").string() + ":";
+  struct Case {
+    const char* csv;
+    const char* where;   // LINE:COLUMN after the CSV's path
+    const char* reason;  // part of the reason
+  };
+  const Case cases[] = {
+      {"0,0.5,0\n5,abc,0\n", "2:3: ", "robot.controls: 'abc' is not a finite number"},
+      {"# t_s,v_mps,w_rps\n0,0.5,0\n\n3,0.5\n", "4:1: ", "command is [t_s, v_mps, w_rps] (3 numbers), got 2"},
+      {"0,0.5,0\r\n0,0.5,0.1\r\n", "2:1: ", "t_s must be after the previous command's 0 s (got 0)"},
+      {" 0, 0.5, 9\n", "1:10: ", "w_rps must be in [-3, 3] rad/s (got 9)"},
+      {"0,0.5,nan\n", "1:7: ", "'nan' is not a finite number"},
+      {"0,0.5,\n", "1:7: ", "'' is not a finite number"},
+      {"# only a comment\n\n", "1:1: ", "the control script has no command"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.csv);
+    const std::string e = refused(c.csv);
+    INFO(e);
+    CHECK(e.rfind(at + c.where, 0) == 0);
+    CHECK(e.find(c.reason) != std::string::npos);
+    CHECK(e.find('\n') == std::string::npos);
+  }
+  std::ofstream(dir.path / "t.toml") << "[robot]\ncontrols = \"none.csv\"\n";
+  CHECK_THROWS_WITH(sim::read_scenario_file((dir.path / "t.toml").string()),
+                    (dir.path / "none.csv").string() + ":1:1: cannot read the control script");
+  // Nor a device or a folder (a path like /dev/zero would never end).
+  std::ofstream(dir.path / "d.toml") << "[robot]\ncontrols = \"/dev/zero\"\n";
+  CHECK_THROWS_WITH(sim::read_scenario_file((dir.path / "d.toml").string()),
+                    "/dev/zero:1:1: the control script is not a regular file");
+}
+
+TEST_CASE("a control script's commands reach the configuration in the model's terms, from the file or a CSV",
+          "[scenario]") {
+  const sim::ScenarioFile f = sim::parse_scenario(
+      "[robot]\nmodel = \"omni\"\nstart_pose = [11.5, 9, 0.5]\ncontrols = [[0, 0.5, 0.2, 0.35], [2.5, -0.1, 0, -1]]\n",
+      "omni.toml");
+  REQUIRE(f.scenario.controls.size() == 2);
+  CHECK(f.scenario.controls[1].t_s == 2.5);
+  CHECK(f.scenario.controls[0].u == est::sim::RobotCommand{0.5f, 0.2f, 0.35f});
+  CHECK(f.scenario.controls[1].u == est::sim::RobotCommand{-0.1f, 0.0f, -1.0f});
+  REQUIRE(f.scenario.start_pose.has_value());
+  CHECK(f.scenario.start_pose->theta == 0.5f);
+  CHECK(f.scenario.kidnap_at_s < 0.0);  // no route to be carried along
+  CHECK(f.scenario.route.empty());
+
+  const est::test::ScratchDir dir("scenario_controls_ok");
+  std::filesystem::create_directories(dir.path / "scripts");
+  std::ofstream(dir.path / "scripts" / "u.csv") << "# t_s,v_mps,steer_rad\n0, 0.6, 0.2\n\n12.5,0.3,-0.4\n";
+  std::ofstream(dir.path / "b.toml") << "[robot]\ncontrols = \"scripts/u.csv\"\n";
+  const sim::ScenarioFile g = sim::read_scenario_file((dir.path / "b.toml").string());
+  REQUIRE(g.scenario.controls.size() == 2);
+  CHECK(g.scenario.controls[1].t_s == 12.5);
+  CHECK(g.scenario.controls[1].u == est::sim::RobotCommand{0.3f, -0.4f, 0.0f});
+  CHECK_FALSE(g.scenario.start_pose.has_value());  // the route's start segment in the office
+
+  // Held from each command's time until the next; still before the first.
+  const est::sim::ControlScript script({{1.0, {0.5f, 0.1f, 0.0f}}, {3.0, {0.2f, 0.0f, 0.0f}}});
+  CHECK(script.at(0.99) == est::sim::RobotCommand{});
+  CHECK(script.at(1.0)[0] == 0.5f);
+  CHECK(script.at(2.99)[0] == 0.5f);
+  CHECK(script.at(3.0)[0] == 0.2f);
+  CHECK(script.at(1e6)[0] == 0.2f);
+  CHECK_THROWS(est::sim::ControlScript({}));
+  CHECK_THROWS(est::sim::ControlScript({{1.0, {}}, {1.0, {}}}));
 }
 
 TEST_CASE("a scenario file that cannot be read is refused with its name", "[scenario]") {
@@ -244,8 +347,9 @@ TEST_CASE("the example parses to simulate's defaults", "[scenario]") {
 }
 
 TEST_CASE("every built-in scenario parses, describes itself and is the file in the repository", "[scenario]") {
-  const std::set<std::string> expected = {"bicycle-exercise", "bicycle-rangefinder", "coop-slam",   "coop-slam-team",
-                                          "diffdrive-landmarks", "example",          "kidnapped", "omni-velocity"};
+  const std::set<std::string> expected = {"bicycle-exercise", "bicycle-rangefinder", "coop-slam",
+                                          "coop-slam-team",   "diffdrive-landmarks", "diffdrive-script",
+                                          "example",          "kidnapped",           "omni-velocity"};
   std::set<std::string> names;
   for (const sim::BuiltinScenario& b : sim::builtin_scenarios()) {
     INFO(b.name);

@@ -165,6 +165,33 @@ TEST_CASE("omni-velocity: the mecanum base driving sideways localizes globally t
   CHECK(wall < 10.0);
 }
 
+TEST_CASE("diffdrive-script: the robot on its control script shuttles along the corridor and is localized",
+          "[sim_host_run]") {
+  double wall = 0.0;
+  const sim::SimResult r = run_builtin("diffdrive-script", wall);
+  // East 12 m from x = 3 (20 s at 0.6 m/s), a half turn, back west, a half turn, east again for 2.3 s.
+  double x_max = 0.0, x_back = 100.0, y_min = 100.0, y_max = 0.0;
+  for (const auto& p : r.stream.truth) {
+    const double t = static_cast<double>(p.t_ns - r.stream.truth.front().t_ns) * 1e-9;
+    const double x = static_cast<double>(p.pose.x), y = static_cast<double>(p.pose.y);
+    x_max = std::max(x_max, x);
+    if (t > 30.0) x_back = std::min(x_back, x);
+    y_min = std::min(y_min, y), y_max = std::max(y_max, y);
+  }
+  const double x_end = static_cast<double>(r.stream.truth.back().pose.x);
+  std::printf("diffdrive-script: x from 3.0 to %.2f and back to %.2f m, ends at %.2f m; y in [%.2f, %.2f] m\n", x_max,
+              x_back, x_end, y_min, y_max);
+  CHECK(x_max == Approx(15.0).margin(0.3));
+  CHECK(x_back == Approx(3.0).margin(0.3));
+  CHECK(x_end == Approx(3.0 + 0.6 * (50.0 - 47.68)).margin(0.3));
+  CHECK(y_min > 6.3);  // in the corridor, clear of its walls (6.1 and 8.5)
+  CHECK(y_max < 8.3);
+  CHECK(r.stream.kidnap_ns < 0);
+  CHECK(r.metrics.phases.at(0).localized);
+  CHECK(r.metrics.rmse_position_m < 0.10);
+  CHECK(wall < 10.0);
+}
+
 TEST_CASE("the team scenarios run through sim_host run's runner within their accuracy", "[sim_host_run]") {
   ScratchDir d("sim_host_run_team");
   struct Case {
@@ -250,6 +277,88 @@ TEST_CASE("a route's waypoint speeds drive its segments at those speeds", "[sim_
   }
   std::printf("20 s at 0.8 m/s: %.2f m; every segment at 0.4 m/s: %.2f m\n", travelled[0], travelled[1]);
   CHECK(travelled[1] / travelled[0] == Approx(0.5).margin(0.05));
+}
+
+TEST_CASE("a control script drives the robot: constant commands trace the analytic circle, or line, of each model",
+          "[sim_host_run]") {
+  // From (11.5, 9, 0) in the office's north-east room, 20 s of one command held: the body twist (v1, v2, w) turns
+  // the reference point about a fixed centre, R(theta0) (-v2/w, v1/w) from the start, at radius |(v1, v2)| / |w|;
+  // the holonomic robot (no turn) goes straight. The truth is the models' own noisy sample of each 10 ms step, so it
+  // wanders off the analytic path by its noise (and the diff drive's by its rounding to whole ticks).
+  struct Case {
+    const char* model;
+    const char* command;  // the script's one command's terms
+    double v1, v2, w;     // its body twist
+    double radial_m, final_m;  // bounds: the largest distance from the circle, and from the analytic final pose
+  };
+  const double length = static_cast<double>(sim::robot_models().truth.bicycle.frame_length);
+  const double steer = std::asin(length / 1.5);  // the front wheel on a 1.5 m circle
+  char bicycle[64];
+  std::snprintf(bicycle, sizeof bicycle, "0.6, %.9f", steer);
+  // The diff drive's twist as whole encoder ticks per 10 ms step (70 left, 86 right: 0.598 m/s, 0.409 rad/s), since
+  // its wheels carry no other: then the circle is the commanded one.
+  const est::DiffDriveParams dd = sim::robot_models().truth.diff_drive;
+  const double mpt = static_cast<double>(est::diff_drive_m_per_tick(dd)), track = static_cast<double>(dd.track_width);
+  const double dd_v = 0.5 * (70.0 + 86.0) * mpt / 0.01, dd_w = (86.0 - 70.0) * mpt / (track * 0.01);
+  char diff_drive[64];
+  std::snprintf(diff_drive, sizeof diff_drive, "%.9f, %.9f", dd_v, dd_w);
+  const Case cases[] = {
+      {"velocity", "0.6, 0.4", 0.6, 0.0, 0.4, 0.05, 0.10},
+      {"diff-drive", diff_drive, dd_v, 0.0, dd_w, 0.10, 0.25},
+      {"bicycle", bicycle, 0.6 * std::cos(steer), 0.6 * std::sin(steer), 0.6 * std::sin(steer) / length, 0.10, 0.25},
+      {"omni", "0.5, 0.2, 0.35", 0.5, 0.2, 0.35, 0.10, 0.25},
+      {"holonomic", "0.1, 0.1", 0.1, 0.1, 0.0, 0.10, 0.25},
+  };
+  for (const Case& c : cases) {
+    INFO(c.model);
+    const sim::ScenarioFile f = sim::parse_scenario(
+        std::string("duration_s = 20\n[robot]\nmodel = \"") + c.model +
+            "\"\nstart_pose = [11.5, 9.0, 0.0]\ncontrols = [[0, " + c.command +
+            "]]\n[filter]\nstart = \"tracking\"\nparticles = 1000\nkld = false\n[faults]\nplan = \"none\"\n"
+            "burst_at_s = -1\n",
+        "script.toml");
+    const sim::SimWorld world = sim::load_world(f.scenario);
+    const sim::SimResult res = sim::run_simulation(f.scenario, f.filter, world);
+    const auto& truth = res.stream.truth;
+    REQUIRE(truth.size() == 2000);
+    const double x0 = 11.5, y0 = 9.0;
+    const double cx = x0 - c.v2 / (c.w != 0.0 ? c.w : 1.0), cy = y0 + c.v1 / (c.w != 0.0 ? c.w : 1.0);
+    const double radius = std::hypot(c.v1, c.v2) / std::fabs(c.w != 0.0 ? c.w : 1.0);
+    // The analytic pose at t: the start's offset from the centre turned by w t (or the line at the twist).
+    const auto analytic = [&](double t, double& x, double& y) {
+      if (c.w == 0.0) {
+        x = x0 + c.v1 * t, y = y0 + c.v2 * t;
+        return;
+      }
+      const double ox = x0 - cx, oy = y0 - cy, a = c.w * t;
+      x = cx + ox * std::cos(a) - oy * std::sin(a), y = cy + ox * std::sin(a) + oy * std::cos(a);
+    };
+    double radial = 0.0;
+    for (const auto& p : truth) {
+      const double t = static_cast<double>(p.t_ns - truth.front().t_ns) * 1e-9;
+      double ax = 0.0, ay = 0.0;
+      analytic(t, ax, ay);
+      const double px = static_cast<double>(p.pose.x), py = static_cast<double>(p.pose.y);
+      const double off = c.w != 0.0 ? std::fabs(std::hypot(px - cx, py - cy) - radius)
+                                    // the line's normal distance
+                                    : std::fabs((px - x0) * c.v2 - (py - y0) * c.v1) / std::hypot(c.v1, c.v2);
+      radial = std::max(radial, off);
+    }
+    const auto& last = truth.back();
+    const double t_end = static_cast<double>(last.t_ns - truth.front().t_ns) * 1e-9;
+    double ax = 0.0, ay = 0.0;
+    analytic(t_end, ax, ay);
+    const double final_m = std::hypot(static_cast<double>(last.pose.x) - ax, static_cast<double>(last.pose.y) - ay);
+    const double heading_err = std::remainder(static_cast<double>(last.pose.theta) - c.w * t_end, 2.0 * M_PI);
+    std::printf("control script, %s [%s] for %.2f s: %s %.3f m, final pose %.3f m and %.2f deg off the analytic; "
+                "filter RMSE %.3f m\n",
+                c.model, c.command, t_end, c.w != 0.0 ? "off the circle by at most" : "off the line by at most", radial,
+                final_m, heading_err * 180.0 / M_PI, res.metrics.rmse_position_m);
+    CHECK(radial < c.radial_m);
+    CHECK(final_m < c.final_m);
+    CHECK(std::fabs(heading_err) < 0.1);
+    CHECK(res.metrics.rmse_position_m < 0.10);  // and the filter follows it
+  }
 }
 
 TEST_CASE("a rangefinder mounted off the reference point, and a narrow landmark sensor, are what the filters see",

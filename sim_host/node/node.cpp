@@ -265,11 +265,9 @@ struct Node::Impl {
   }
 
   void start_view() {
-    view = std::make_unique<view::LiveView>(c.view_port, "estimator_node");
+    view = open_view(c.view_port, "estimator_node");
     if (maps->view.grid.valid()) view->set_map(view_map(maps->view.grid));
     outputs.view = view.get();
-    std::fprintf(stderr, "estimator_node: live view on http://localhost:%u/ (Foxglove: ws://localhost:%u)\n",
-                 unsigned{view->port()}, unsigned{view->port()});
   }
 
   // MCL's particles to the view, at its rate.
@@ -620,13 +618,7 @@ struct Node::Impl {
                    static_cast<unsigned long long>(out_log->failures()));
     if (candump)
       std::fprintf(f, "  out_can: frames=%llu\n", static_cast<unsigned long long>(candump->frames()));
-    if (view) {
-      const view::ViewCounters v = view->counters();
-      std::fprintf(f, "  view: port=%u clients=%llu pages=%llu sent=%llu dropped_handoff=%llu dropped_slow=%llu\n",
-                   unsigned{view->port()}, static_cast<unsigned long long>(v.clients),
-                   static_cast<unsigned long long>(v.pages), static_cast<unsigned long long>(v.messages_sent),
-                   static_cast<unsigned long long>(v.dropped_handoff), static_cast<unsigned long long>(v.dropped_slow));
-    }
+    if (view) std::fprintf(f, "  view: %s\n", view_counters_line(*view).c_str());
     if (record_log)
       std::fprintf(f, "  record_log: events=%llu failures=%llu\n", static_cast<unsigned long long>(record_log->events()),
                    static_cast<unsigned long long>(record_log->failures()));

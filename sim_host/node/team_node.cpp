@@ -133,11 +133,9 @@ struct TeamNode::Impl {
     lcm.subscribe(cfg.own_channel, &Impl::on_own, this);
     lcm.subscribe(cfg.team_channel, &Impl::on_team, this);
     if (cfg.view_port != 0) {
-      view = std::make_unique<view::LiveView>(cfg.view_port, "estimator_node", cfg.spec.estimator.robots);
+      view = open_view(cfg.view_port, "estimator_node coop-ekf", cfg.spec.estimator.robots);
       for (std::int32_t a = 0; a < cfg.spec.estimator.robots; ++a)
         lcm.subscribe(team_truth_channel(a), &Impl::on_truth, this);
-      std::fprintf(stderr, "estimator_node coop-ekf: live view on http://localhost:%u/ (Foxglove: ws://localhost:%u)\n",
-                   unsigned{view->port()}, unsigned{view->port()});
     }
   }
 
@@ -310,13 +308,7 @@ void TeamNode::print_summary(std::FILE* f) const {
   const auto& c = m.est.slam().counters();
   std::fprintf(f, "\n  estimator: %u measurements fused, %u gated out, %u pending, %u refused otherwise\n",
                c.accepted, c.gated_out, c.pending, c.rejected() - c.gated_out);
-  if (m.view) {
-    const view::ViewCounters vc = m.view->counters();
-    std::fprintf(f, "  view: port=%u clients=%llu pages=%llu sent=%llu dropped_handoff=%llu dropped_slow=%llu\n",
-                 unsigned{m.view->port()}, static_cast<unsigned long long>(vc.clients),
-                 static_cast<unsigned long long>(vc.pages), static_cast<unsigned long long>(vc.messages_sent),
-                 static_cast<unsigned long long>(vc.dropped_handoff), static_cast<unsigned long long>(vc.dropped_slow));
-  }
+  if (m.view) std::fprintf(f, "  view: %s\n", view_counters_line(*m.view).c_str());
 }
 
 }  // namespace node

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <array>
 #include <chrono>
+#include <cstdio>
 #include <thread>
 
 namespace node {
@@ -23,6 +24,23 @@ void add_view_options(CLI::App& app, std::uint16_t& port, bool& wait, double& sp
 
 void wait_for_viewer(const view::LiveView& v, bool (*stopped)()) {
   while (v.subscribers() == 0 && !stopped()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+}
+
+std::unique_ptr<view::LiveView> open_view(std::uint16_t port, const std::string& program, int team_robots) {
+  auto v = std::make_unique<view::LiveView>(port, program.substr(0, program.find(' ')), team_robots);
+  std::fprintf(stderr, "%s: live view on http://localhost:%u/ (Foxglove: ws://localhost:%u)\n", program.c_str(),
+               unsigned{v->port()}, unsigned{v->port()});
+  return v;
+}
+
+std::string view_counters_line(const view::LiveView& v) {
+  const view::ViewCounters c = v.counters();
+  char b[256];
+  std::snprintf(b, sizeof b, "port=%u clients=%llu pages=%llu sent=%llu dropped_handoff=%llu dropped_slow=%llu",
+                unsigned{v.port()}, static_cast<unsigned long long>(c.clients),
+                static_cast<unsigned long long>(c.pages), static_cast<unsigned long long>(c.messages_sent),
+                static_cast<unsigned long long>(c.dropped_handoff), static_cast<unsigned long long>(c.dropped_slow));
+  return b;
 }
 
 view::EstimateSample view_sample(const hal::Estimate& e) {

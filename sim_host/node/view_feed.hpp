@@ -2,6 +2,8 @@
 // What a live view (view/live_view.hpp) is fed from an estimator pipeline: its estimates, its map and its particle
 // cloud, in the view's types. estimator_node and sim_host's runs share it. Host only.
 #include <cstdint>
+#include <memory>
+#include <string>
 
 #include "hal/estimate.hpp"
 #include "node/estimator_pipeline.hpp"
@@ -22,6 +24,13 @@ inline double replay_speed_default(double speed, std::uint16_t port) {
 }
 // --view-wait: returns once a viewer has subscribed, or stopped() says so.
 void wait_for_viewer(const view::LiveView& v, bool (*stopped)());
+// The live view of `program` on localhost:port (team_robots > 0: a team's channels; the server's name is the
+// program's first word), its address said on stderr as "PROGRAM: live view on http://localhost:PORT/ (Foxglove:
+// ws://localhost:PORT)" (what the view tests wait for).
+// Throws std::runtime_error when the port cannot be served.
+std::unique_ptr<view::LiveView> open_view(std::uint16_t port, const std::string& program, int team_robots = 0);
+// "port=P clients=C pages=G sent=S dropped_handoff=H dropped_slow=D": a run's summary line of its view.
+std::string view_counters_line(const view::LiveView& v);
 
 view::EstimateSample view_sample(const hal::Estimate& e);
 view::MapGrid view_map(const est::OccupancyGrid& g);

@@ -56,7 +56,7 @@ void add_run_command(CLI::App& app) {
   c->add_flag("--no-plots", o->no_plots, "skip the PNG figures (no gnuplot needed)");
   c->add_option("--view", o->view_port,
                 "serve the live view on localhost:PORT during the run: the page at http://localhost:PORT/, the Foxglove "
-                "WebSocket protocol for Foxglove Studio (a single robot; 0: none)")->capture_default_str();
+                "WebSocket protocol for Foxglove Studio (a single robot, or a team's robots and landmarks; 0: none)")->capture_default_str();
   c->add_option("--view-speed", o->view_speed, "with --view: the run at this many times real time (0: full speed)")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
   c->add_flag("--view-wait", o->view_wait, "with --view: start the run once a viewer has subscribed");

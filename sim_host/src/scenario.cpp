@@ -147,8 +147,10 @@ SimWorld load_grid_world(const ScenarioConfig& config) {
     w.route = std::make_unique<est::sim::Route>(config.route.empty() ? office.route : est::sim::Route(config.route));
     return w;
   }
-  if (config.route.size() < 2)
+  if (config.controls.empty() && config.route.size() < 2)
     throw std::invalid_argument("--route is required with --map (at least two waypoints x,y in the map frame)");
+  if (!config.controls.empty() && config.route.empty() && !config.start_pose)
+    throw std::invalid_argument("a control script in a map_server map needs its start pose (no route to start on)");
   auto m = std::make_shared<LoadedMap>();
   est::sim::load_ros_map(config.map_yaml, m->grid);
   if (m->edt.build(m->grid.grid()) != est::MapStatus::ok)
@@ -157,7 +159,7 @@ SimWorld load_grid_world(const ScenarioConfig& config) {
   w.grid = m->grid.grid();
   w.edt = m->edt.view();
   w.storage = m;
-  w.route = std::make_unique<est::sim::Route>(config.route);
+  if (!config.route.empty()) w.route = std::make_unique<est::sim::Route>(config.route);
   return w;
 }
 

@@ -4,6 +4,7 @@
 #include <toml++/toml.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "sim/sample_motion.hpp"
+#include "sim/sensor_stream.hpp"
 #include "team/team_scenarios.hpp"
 
 namespace sim {
@@ -234,6 +236,140 @@ std::vector<est::sim::Waypoint> read_route(Section& world) {
   return out;
 }
 
+// A control script's command [t_s, terms...] (world/control_script.hpp): why it is refused and which of its fields
+// (0: t_s) the reason is about; an empty reason when it is fine. `previous_t_s` < 0: the first command.
+struct CommandIssue {
+  std::string reason;
+  std::size_t field = 0;  // kWholeCommand: the command itself
+};
+constexpr std::size_t kWholeCommand = static_cast<std::size_t>(-1);
+CommandIssue check_command(const std::vector<double>& v, RobotKind model, double previous_t_s) {
+  const std::size_t terms = static_cast<std::size_t>(est::sim::command_terms(model));
+  const std::string names = est::sim::command_term_names(model);
+  if (v.size() != terms + 1)
+    return {std::string("robot.controls: the ") + to_string(model) + " robot's command is [t_s, " + names + "] (" +
+                std::to_string(terms + 1) + " numbers), got " + std::to_string(v.size()),
+            kWholeCommand};
+  if (!(v[0] >= 0.0 && v[0] <= 3600.0)) return {"robot.controls: t_s must be in [0, 3600] s (got " + fmt(v[0]) + ")", 0};
+  if (previous_t_s >= 0.0 && !(v[0] > previous_t_s))
+    return {"robot.controls: t_s must be after the previous command's " + fmt(previous_t_s) + " s (got " + fmt(v[0]) +
+                ")",
+            0};
+  const double steer_max = static_cast<double>(robot_models().truth.bicycle.steer_max);
+  std::size_t at = 0;
+  for (std::size_t i = 1; i <= terms; ++i) {
+    const std::size_t end = names.find(", ", at);
+    const std::string name = names.substr(at, end == std::string::npos ? std::string::npos : end - at);
+    at = end + 2;
+    const double x = v[i];
+    const auto unit = [&](const char* u) { return name.size() > 4 && name.compare(name.size() - 4, 4, u) == 0; };
+    if (unit("_mps") && !(std::fabs(x) <= 3.0))
+      return {"robot.controls: " + name + " must be in [-3, 3] m/s (got " + fmt(x) + ")", i};
+    if (unit("_rps") && !(std::fabs(x) <= 3.0))
+      return {"robot.controls: " + name + " must be in [-3, 3] rad/s (got " + fmt(x) + ")", i};
+    if (unit("_rad") && !(std::fabs(x) <= steer_max))
+      return {"robot.controls: " + name + " must be within the steering stops, +-" + fmt(steer_max) + " rad (got " +
+                  fmt(x) + ")",
+              i};
+  }
+  return {};
+}
+
+est::sim::TimedCommand timed_command(const std::vector<double>& v) {
+  est::sim::TimedCommand c;
+  c.t_s = v[0];
+  for (std::size_t i = 1; i < v.size(); ++i) c.u[i - 1] = static_cast<float>(v[i]);
+  return c;
+}
+
+constexpr std::uintmax_t kMaxControlScriptBytes = 16u << 20;
+
+// A control script as a CSV file: "t_s,term,..." per line, '#' lines and blank lines skipped; refused as
+// PATH:LINE:COLUMN: reason.
+std::vector<est::sim::TimedCommand> read_controls_csv(const std::string& path, RobotKind model) {
+  // A regular file of bounded size (not a device or a pipe that never ends).
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw ScenarioFileError(path + ":1:1: the control script is not a regular file");
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (!ec && size > kMaxControlScriptBytes)
+    throw ScenarioFileError(path + ":1:1: the control script is larger than 16 MiB");
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw ScenarioFileError(path + ":1:1: cannot read the control script");
+  std::vector<est::sim::TimedCommand> out;
+  std::string line;
+  double previous = -1.0;
+  for (std::size_t number = 1; std::getline(f, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::size_t first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line[first] == '#') continue;
+    const auto refuse = [&](std::size_t column, const std::string& reason) {
+      throw ScenarioFileError(path + ":" + std::to_string(number) + ":" + std::to_string(column + 1) + ": " + reason);
+    };
+    std::vector<double> v;
+    std::vector<std::size_t> columns;
+    for (std::size_t at = 0;;) {
+      const std::size_t comma = line.find(',', at);
+      const std::string field = line.substr(at, comma == std::string::npos ? std::string::npos : comma - at);
+      const std::size_t lead = field.find_first_not_of(" \t");
+      const std::size_t tail = field.find_last_not_of(" \t");
+      const std::string text = lead == std::string::npos ? "" : field.substr(lead, tail - lead + 1);
+      char* end = nullptr;
+      const double x = text.empty() ? 0.0 : std::strtod(text.c_str(), &end);
+      if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(x))
+        refuse(at + (lead == std::string::npos ? 0 : lead), "robot.controls: '" + text + "' is not a finite number");
+      v.push_back(x);
+      columns.push_back(at + lead);
+      if (comma == std::string::npos) break;
+      at = comma + 1;
+    }
+    const CommandIssue issue = check_command(v, model, previous);
+    if (!issue.reason.empty()) refuse(issue.field < columns.size() ? columns[issue.field] : columns.front(), issue.reason);
+    previous = v[0];
+    out.push_back(timed_command(v));
+  }
+  if (out.empty()) throw ScenarioFileError(path + ":1:1: robot.controls: the control script has no command");
+  return out;
+}
+
+// robot.controls: an array of commands [t_s, terms...], or the path of a CSV file of them (beside() resolves it).
+template <typename Beside>
+std::vector<est::sim::TimedCommand> read_controls(Section& robot, RobotKind model, const Beside& beside) {
+  const toml::node* n = robot.get("controls");
+  if (n == nullptr) return {};
+  if (const auto* path = n->as_string()) {
+    if (path->get().empty()) robot.fail(*n, "robot.controls: an empty path (leave the key out for none)");
+    return read_controls_csv(beside(path->get()), model);
+  }
+  const auto* a = n->as_array();
+  if (a == nullptr)
+    robot.fail(*n, "robot.controls: expected an array of commands [t_s, " +
+                       std::string(est::sim::command_term_names(model)) + "] or a CSV file's path, got " +
+                       type_name(n->type()));
+  std::vector<est::sim::TimedCommand> out;
+  double previous = -1.0;
+  for (const toml::node& row : *a) {
+    const auto* r = row.as_array();
+    if (r == nullptr)
+      robot.fail(row, "robot.controls: each command is [t_s, " + std::string(est::sim::command_term_names(model)) + "]");
+    std::vector<double> v;
+    for (const toml::node& c : *r) {
+      double x = 0.0;
+      if (const auto* i = c.as_integer()) x = static_cast<double>(i->get());
+      else if (const auto* f = c.as_floating_point()) x = f->get();
+      else robot.fail(c, "robot.controls: expected a number, got " + std::string(type_name(c.type())));
+      if (!std::isfinite(x)) robot.fail(c, "robot.controls: must be finite");
+      v.push_back(x);
+    }
+    const CommandIssue issue = check_command(v, model, previous);
+    if (!issue.reason.empty())
+      robot.fail(issue.field < r->size() ? *r->get(issue.field) : row, issue.reason);
+    previous = v[0];
+    out.push_back(timed_command(v));
+  }
+  return out;
+}
+
 void read_filter(Section& f, FilterOptions& fo) {
   const std::string type = f.choice("type", "mcl", {"mcl", "ekf"});
   fo.filter = type == "ekf" ? est::loop::Filter::ekf : est::loop::Filter::mcl;
@@ -346,8 +482,13 @@ void read_faults(Section& f, ScenarioConfig& s, bool ekf) {
       s.faults[key] = static_cast<int>(c->get());
     }
   }
-  // An EKF cannot recover from a kidnapping: none unless asked (as simulate).
-  s.kidnap_at_s = f.number("kidnap_at_s", ekf ? -1.0 : s.kidnap_at_s);
+  // An EKF cannot recover from a kidnapping: none unless asked (as simulate). A robot on a control script has no
+  // route to be carried along: none.
+  const bool scripted = !s.controls.empty();
+  s.kidnap_at_s = f.number("kidnap_at_s", ekf || scripted ? -1.0 : s.kidnap_at_s);
+  if (scripted && s.kidnap_at_s >= 0.0)
+    f.fail_key("kidnap_at_s", "faults.kidnap_at_s: a kidnapping carries the robot along its route; a robot on "
+                              "robot.controls has none (-1)");
   s.burst_at_s = f.number("burst_at_s", s.burst_at_s);
   s.burst_ms = f.number("burst_ms", s.burst_ms, kPositive);
   f.done();
@@ -395,8 +536,6 @@ void read_simulate(Section& top, ScenarioFile& out) {
   s.map_yaml = beside(world.text("map", ""));
   s.landmarks_csv = beside(world.text("landmarks", ""));
   s.route = read_route(world);
-  if (!s.map_yaml.empty() && s.route.empty())
-    world.fail_key("map", "world.route is required with world.map (at least two waypoints [x, y])");
   world.done();
 
   Section robot = top.table("robot");
@@ -407,6 +546,15 @@ void read_simulate(Section& top, ScenarioFile& out) {
   s.start_segment = static_cast<std::size_t>(robot.integer("start_segment", 0, 0, 10000));
   s.handle_detents = robot.integer_i("handle_detents", s.handle_detents, 0, 64);
   s.omni_noise = robot.numbers("omni_noise", 9, kNoise);
+  const std::vector<float> start = robot.numbers("start_pose", 3, kAny);
+  if (!start.empty()) s.start_pose = est::Pose2{start[0], start[1], start[2]};
+  s.controls = read_controls(robot, s.robot, beside);
+  if (!s.controls.empty() && !s.route.empty())
+    robot.fail_key("controls", "robot.controls: a robot follows world.route or a control script, not both");
+  if (!s.map_yaml.empty() && s.route.empty() && s.controls.empty())
+    world.fail_key("map", "world.route is required with world.map (at least two waypoints [x, y]), or robot.controls");
+  if (!s.map_yaml.empty() && s.route.empty() && !s.start_pose)
+    robot.fail_key("controls", "robot.start_pose is required with a control script in a map (no route to start on)");
   robot.done();
 
   Section sensors = top.table("sensors");

@@ -82,38 +82,41 @@ void print_summary(const SimResult& r, const ScenarioConfig& sc, const SimWorld&
   std::cout << "  outputs in " << out << "/\n";
 }
 
+// The live view of a run (--view PORT; team_robots > 0: a team's channels) with the world's map (if any), started
+// once a viewer has subscribed with --view-wait; null without --view.
+std::unique_ptr<view::LiveView> open_run_view(const RunOptions& o, int team_robots, const SimWorld* world) {
+  if (o.view_port == 0) return nullptr;
+  std::unique_ptr<view::LiveView> view = node::open_view(o.view_port, "sim_host", team_robots);
+  if (world != nullptr && world->grid.valid()) view->set_map(node::view_map(world->grid));
+  if (o.view_wait) {
+    std::fprintf(stderr, "sim_host: waiting for a viewer to subscribe\n");
+    node::wait_for_viewer(*view, [] { return false; });
+  }
+  return view;
+}
+
+// Sends what is queued, closes the view and says what it sent.
+void close_run_view(view::LiveView* view) {
+  if (view == nullptr) return;
+  view->stop();
+  std::fprintf(stderr, "sim_host: view: %s\n", node::view_counters_line(*view).c_str());
+}
+
 }  // namespace
 
 void run_scenario(const ScenarioFile& f, const RunOptions& o) {
   switch (f.runner) {
     case ScenarioRunner::simulate: {
       const SimWorld world = load_world(f.scenario);
-      std::unique_ptr<view::LiveView> view;
+      const std::unique_ptr<view::LiveView> view = open_run_view(o, 0, &world);
       RunView watch;
-      if (o.view_port != 0) {
-        view = std::make_unique<view::LiveView>(o.view_port, "sim_host");
-        if (world.grid.valid()) view->set_map(node::view_map(world.grid));
-        watch.view = view.get();
-        watch.speed = o.view_speed;
-        std::fprintf(stderr, "sim_host: live view on http://localhost:%u/ (Foxglove: ws://localhost:%u)\n",
-                     unsigned{view->port()}, unsigned{view->port()});
-        if (o.view_wait) {
-          std::fprintf(stderr, "sim_host: waiting for a viewer to subscribe\n");
-          while (view->subscribers() == 0) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-        }
-      }
+      watch.view = view.get();
+      watch.speed = o.view_speed;
       // A run longer than a few seconds shows its simulated time on a terminal.
       Progress progress("simulate", f.scenario.duration_s, o.quiet, Progress::Unit::simulated_s, 2.0);
       const SimResult r = run_simulation(f.scenario, f.filter, world, &progress, view ? &watch : nullptr);
       progress.finish();
-      if (view) {
-        view->stop();
-        const view::ViewCounters v = view->counters();
-        std::fprintf(stderr, "sim_host: view: clients=%llu sent=%llu dropped_handoff=%llu dropped_slow=%llu\n",
-                     static_cast<unsigned long long>(v.clients), static_cast<unsigned long long>(v.messages_sent),
-                     static_cast<unsigned long long>(v.dropped_handoff),
-                     static_cast<unsigned long long>(v.dropped_slow));
-      }
+      close_run_view(view.get());
       write_simulation_outputs(r, f.scenario, f.filter, world, o.out, o.plots);
       // The run as one LCM log: its inputs, the ground truth and the estimates, with the sidecar that says how to
       // replay it (estimator_node --replay gives the same estimates).
@@ -134,7 +137,6 @@ void run_scenario(const ScenarioFile& f, const RunOptions& o) {
       return;
     }
     case ScenarioRunner::team: {
-      if (o.view_port != 0) throw std::invalid_argument("--view: a team scenario has no live view yet (one robot only)");
       team::TeamRunOptions t;
       t.scenario = f.team;
       t.out = o.out;
@@ -144,7 +146,11 @@ void run_scenario(const ScenarioFile& f, const RunOptions& o) {
       t.quiet = o.quiet;
       if (!o.live_lcm_url.empty() && f.team == "diffdrive-landmarks")
         throw std::invalid_argument("--live: no node runs the anonymous team of diffdrive-landmarks");
+      const std::unique_ptr<view::LiveView> view = open_run_view(o, team::team_scenario(f.team).robots, nullptr);
+      t.view = view.get();
+      t.view_speed = o.view_speed;
       team::run_team_scenario(t);
+      close_run_view(view.get());
       if (!o.live_lcm_url.empty()) {
         std::cout.flush();
         LiveOptions live = o.live;

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -234,34 +235,52 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
   }
   const bool bicycle = c.robot == RobotKind::bicycle;
   const bool odometry_base = has_odometry(c.robot);
-  const est::sim::Route& route = *world.route;
+  const est::sim::Route* const route = world.route.get();
+  const bool scripted = !c.controls.empty();
+  if (!scripted && route == nullptr) throw std::invalid_argument("a robot needs a route or a control script");
+  if (scripted && !c.start_pose && route == nullptr)
+    throw std::invalid_argument("a control script without a route needs its start pose");
   const int steps = static_cast<int>(std::lround(c.duration_s / static_cast<double>(kSimStepS)));
   const int enc_div = 100 / c.encoder_hz, steer_div = 100 / c.steering_hz, scan_div = 100 / c.scan_hz;
   const int twist_div = 100 / c.twist_hz, odom_div = 100 / c.odometry_hz;
   const int mark_div = 100 / c.landmark_hz;
 
   SensorStream s;
-  s.route_waypoints = route.size();
+  s.route_waypoints = scripted || route == nullptr ? 0 : route->size();
   s.end_ns = kSimStartNs + static_cast<hal::TimeNs>(steps) * kSimStepNs;
   s.mount = c.handlebar ? est::steered_sensor_mount(c.handlebar_mount, 0.0f) : c.rangefinder_mount;
   s.metres_per_tick = metres_per_tick(c.robot);
-  // The fastest the robot is told to drive: its cruise speed or a route segment's.
-  double top_speed = c.speed_mps;
-  for (std::size_t i = 0; i < route.size(); ++i) top_speed = std::max(top_speed, static_cast<double>(route[i].speed_mps));
-  // The fastest wheel: the bicycle's front wheel at speed; a diff drive turning at 1.5 rad/s; a mecanum wheel with
-  // |v1| + |v2| + (lx + ly) |w| (the omni base turns at up to 1 rad/s).
-  const double wheel_speed_max = bicycle ? top_speed
-                                 : c.robot == RobotKind::omni
-                                     ? 1.5 * top_speed + 0.4
-                                     : top_speed + 1.5 * 0.5 * static_cast<double>(models.truth.diff_drive.track_width);
+  // The fastest the robot is told to drive: its cruise speed or a route segment's, or its script's fastest command
+  // (and turn, beyond the controllers' 1.5 rad/s).
+  double top_speed = c.speed_mps, top_turn = 1.5;
+  if (scripted) {
+    top_speed = 0.1;
+    for (const est::sim::TimedCommand& u : c.controls) {
+      const double a = std::fabs(static_cast<double>(u.u[0])), b = std::fabs(static_cast<double>(u.u[1]));
+      const double w = c.robot == RobotKind::omni ? std::fabs(static_cast<double>(u.u[2]))
+                       : c.robot == RobotKind::bicycle || c.robot == RobotKind::holonomic ? 0.0 : b;
+      top_speed = std::max(top_speed, c.robot == RobotKind::omni || c.robot == RobotKind::holonomic ? a + b : a);
+      top_turn = std::max(top_turn, w);
+    }
+  } else {
+    for (std::size_t i = 0; i < route->size(); ++i)
+      top_speed = std::max(top_speed, static_cast<double>((*route)[i].speed_mps));
+  }
+  // The fastest wheel: the bicycle's front wheel at speed; a diff drive turning at top_turn; a mecanum wheel with
+  // |v1| + |v2| + (lx + ly) |w| (the omni base turns at up to 1 rad/s on a route).
+  const double wheel_speed_max =
+      bicycle ? top_speed
+      : c.robot == RobotKind::omni
+          ? 1.5 * top_speed + 0.4 * std::max(1.0, scripted ? top_turn : 1.0)
+          : top_speed + top_turn * 0.5 * static_cast<double>(models.truth.diff_drive.track_width);
   s.limits.wheels.wheel_count = c.robot == RobotKind::omni ? 4 : 2;
   s.limits.wheels.counter_bits = kEncoderCounterBits;
   s.limits.wheels.max_ticks_per_s = static_cast<std::uint32_t>(std::ceil(3.0 * wheel_speed_max / s.metres_per_tick));
   s.limits.steering.max_angle_rad = models.truth.bicycle.steer_max;
   s.limits.twist.max_speed_mps = static_cast<float>(3.0 * top_speed);
-  s.limits.twist.max_turn_rate_rps = 3.0f;
+  s.limits.twist.max_turn_rate_rps = static_cast<float>(2.0 * top_turn);
   s.limits.odometry.max_speed_mps = static_cast<float>(3.0 * top_speed);
-  s.limits.odometry.max_turn_rate_rps = 3.0f;
+  s.limits.odometry.max_turn_rate_rps = static_cast<float>(2.0 * top_turn);
   s.limits.scan.max_beams = static_cast<std::size_t>(std::max(1081, c.beams));
   s.landmark_count = static_cast<std::size_t>(world.landmarks.size());
   s.limits.landmarks.max_range_m = lms.max_range + kLandmarkRangeMargin;
@@ -323,10 +342,16 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
   const int kidnap_step =
       c.kidnap_at_s >= 0.0 && c.kidnap_at_s < c.duration_s ? static_cast<int>(std::lround(c.kidnap_at_s / static_cast<double>(kSimStepS))) : -1;
 
-  const est::Pose2 start = route.pose_on_segment(c.start_segment % route.size(), 0.0f);
-  const std::unique_ptr<est::sim::SimRobot> robot = est::sim::make_robot(
-      c.robot, route, start, c.start_segment + 1, models.truth, static_cast<float>(c.speed_mps), kSimStepS,
-      s.metres_per_tick);
+  if (scripted && kidnap_step >= 0)
+    throw std::invalid_argument("a kidnapping carries the robot onto its route: a robot on a control script has none");
+  const est::Pose2 start =
+      c.start_pose ? *c.start_pose : route->pose_on_segment(c.start_segment % route->size(), 0.0f);
+  const std::optional<est::sim::ControlScript> script =
+      scripted ? std::optional<est::sim::ControlScript>(c.controls) : std::nullopt;
+  const std::unique_ptr<est::sim::SimRobot> robot =
+      scripted ? est::sim::make_robot(c.robot, *script, start, models.truth, kSimStepS, s.metres_per_tick)
+               : est::sim::make_robot(c.robot, *route, start, c.start_segment + 1, models.truth,
+                                      static_cast<float>(c.speed_mps), kSimStepS, s.metres_per_tick);
   const auto pose = [&]() { return robot->pose(); };
 
   // The rangefinder.
@@ -455,11 +480,11 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
       // kKidnapMinDistanceM away (far beyond the localized bound, so the filter must lose and regain its estimate),
       // else the farthest of them.
       const est::Pose2 from = pose();
-      const std::size_t here = nearest_segment(route, from);
+      const std::size_t here = nearest_segment(*route, from);
       std::size_t seg = here + 3;
       double best = -1.0;
-      for (std::size_t ahead = 3; ahead < 3 + route.size(); ++ahead) {
-        const est::Pose2 q = route.pose_on_segment((here + ahead) % route.size(), 0.3f);
+      for (std::size_t ahead = 3; ahead < 3 + route->size(); ++ahead) {
+        const est::Pose2 q = route->pose_on_segment((here + ahead) % route->size(), 0.3f);
         const double d = std::hypot(static_cast<double>(q.x - from.x), static_cast<double>(q.y - from.y));
         if (d > best) {
           best = d;
@@ -467,7 +492,7 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
         }
         if (d >= kKidnapMinDistanceM) break;
       }
-      const est::Pose2 to = route.pose_on_segment(seg % route.size(), 0.3f);
+      const est::Pose2 to = route->pose_on_segment(seg % route->size(), 0.3f);
       s.kidnap_distance_m = best;
       robot->teleport(to, seg + 1);
       s.kidnap_ns = t;
@@ -479,7 +504,8 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
       char where[160];
       std::snprintf(where, sizeof where, "the robot left the free space at (%.2f, %.2f) m, %.2f s into the run",
                     static_cast<double>(p.x), static_cast<double>(p.y), static_cast<double>(k) * 0.01);
-      throw std::invalid_argument(std::string(where) + ": the route crosses an obstacle or leaves the map (--route)");
+      throw std::invalid_argument(std::string(where) + (scripted ? ": the control script drives it into an obstacle or off the map"
+                                                                  : ": the route crosses an obstacle or leaves the map (--route)"));
     }
     s.truth.push_back({t, p, 0.0f, 0.0f});
     const bool silent = in_any(burst, t);

@@ -140,8 +140,9 @@ void plot_trajectory(const SimResult& r, const ScenarioConfig& sc, const SimWorl
         << " m, heading RMSE " << fmt("%.2f", r.metrics.rmse_heading_deg) << " deg";
   gp << "set title \"" << title.str() << "\" noenhanced\n";
   gp << "set key below center horizontal maxcols 3 box opaque width 1 spacing 1.2 noenhanced\n";
-  // Route
-  {
+  // Route (none drawn for a robot on a control script)
+  const bool route = sc.controls.empty() && w.route != nullptr;
+  if (route) {
     std::ofstream f = open(dir / "route.dat");
     for (std::size_t i = 0; i <= w.route->size(); ++i) f << (*w.route)[i].x << " " << (*w.route)[i].y << "\n";
   }
@@ -196,7 +197,8 @@ void plot_trajectory(const SimResult& r, const ScenarioConfig& sc, const SimWorl
     }
   }
   gp << "plot 'map.dat' using 1:2:3 with image notitle, \\\n";
-  gp << "  'route.dat' using 1:2 with linespoints lw 1.5 dt 3 pt 6 ps 1.2 lc rgb '#7f7f7f' title 'route', \\\n";
+  if (route)
+    gp << "  'route.dat' using 1:2 with linespoints lw 1.5 dt 3 pt 6 ps 1.2 lc rgb '#7f7f7f' title 'route', \\\n";
   if (ekf) {
     gp << "  'landmarks.dat' using 1:2 with points pt 5 ps 1.6 lc rgb '#8c564b' title 'landmarks (posts)', \\\n";
     gp << "  'ellipses.dat' using 1:2 with lines lw 1 lc rgb '#9467bd' title 'estimate 2-sigma ellipse (1 Hz)', \\\n";
@@ -347,7 +349,7 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
                    {"seed", sc.seed},
                    {"duration_s", sc.duration_s},
                    {"speed_mps", sc.speed_mps},
-                   {"route_waypoints", w.route->size()},
+                   {"route_waypoints", r.stream.route_waypoints},
                    {"encoder_hz", sc.encoder_hz},
                    {"steering_hz", sc.robot == RobotKind::bicycle && sc.steering_sensor ? sc.steering_hz : 0},
                    {"twist_hz", has_twist(sc.robot) ? sc.twist_hz : 0},
@@ -368,6 +370,7 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
                    {"kidnap_distance_m", r.stream.kidnap_ns >= 0 ? r.stream.kidnap_distance_m : 0.0},
                    {"burst_at_s", sc.burst_at_s},
                    {"burst_ms", sc.burst_ms}};
+  if (!sc.controls.empty()) j["scenario"]["control_script_commands"] = sc.controls.size();
   const ordered bound = {{"position_m", fo.converge_pos_m},
                          {"heading_deg", fo.converge_heading_deg},
                          {"hold_s", fo.hold_s}};

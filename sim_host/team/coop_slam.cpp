@@ -20,7 +20,9 @@
 
 #include "est/random/samplers.hpp"
 #include "est/random/xoshiro128.hpp"
+#include "node/pacer.hpp"
 #include "node/team_spec.hpp"
+#include "node/view_feed.hpp"
 #include "sim/plot.hpp"
 #include "sim/progress.hpp"
 #include "team/coop_world.hpp"
@@ -263,6 +265,7 @@ void run_coop_slam(const TeamRunOptions& o, bool team_of_four) {
   std::vector<TeamLogStep> logged;  // the run log's truth and each robot's node's estimate of itself
   Errors es, eo;
   Progress progress(o.scenario, steps * static_cast<double>(w.step_s()), o.quiet, Progress::Unit::simulated_s, 2.0);
+  node::Pacer pacer(o.view != nullptr ? o.view_speed : 0.0);
   for (std::uint32_t k = 1; k <= static_cast<std::uint32_t>(steps); ++k) {
     progress.update(k * static_cast<double>(w.step_s()));
     const std::vector<TeamMessage> msgs = w.step(k);
@@ -292,6 +295,13 @@ void run_coop_slam(const TeamRunOptions& o, bool team_of_four) {
     }
     truth.push_back(t), est_shared.push_back(s), est_own.push_back(m);
     logged.push_back(log_step(msgs.front().stamp_ns, w, shared));
+    if (o.view != nullptr) {  // what robot 0's node would show (every node holds the same estimate)
+      pacer.at(msgs.front().stamp_ns);
+      for (int a = 0; a < R; ++a)
+        o.view->publish_team_truth(a, msgs.front().stamp_ns,
+                                   {static_cast<double>(w.robot(a)(0)), static_cast<double>(w.robot(a)(1)), 0.0});
+      node::feed_team(*o.view, shared[0]->est, 0, msgs.front().stamp_ns);
+    }
     account(es, shared[0]->est, w, -1);
     // The own-only figures: robot a's position from robot a's node.
     std::vector<double> row;

@@ -17,10 +17,12 @@
 #include <vector>
 
 #include "est/team/anonymous_team_mcl.hpp"
+#include "node/pacer.hpp"
 #include "sim/plot.hpp"
 #include "sim/progress.hpp"
 #include "team/team_logs.hpp"
 #include "team/team_scenarios.hpp"
+#include "view/live_view.hpp"
 
 namespace sim::team {
 namespace {
@@ -141,6 +143,25 @@ void plot_trajectory(const fs::path& out, const std::vector<Row>& rows) {
   sim::render_scatter_png(p, (out / "trajectory.png").string());
 }
 
+// One step to the view: each robot's truth and estimate (its cluster's covariance; robot 0's with the status), and
+// the known landmarks at the view's rate.
+void feed_view(view::LiveView& v, hal::TimeNs stamp_ns, const est::Pose2* truth, const Filter& filter) {
+  for (int r = 0; r < kRobots; ++r) {
+    v.publish_team_truth(r, stamp_ns, {d(truth[r].x), d(truth[r].y), d(truth[r].theta)});
+    const est::team::TeamRobotEstimate& e = filter.estimate(r);
+    view::EstimateSample s;
+    s.stamp_ns = stamp_ns;
+    s.pose = {d(e.mean.x), d(e.mean.y), d(e.mean.theta)};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) s.covariance[3 * i + j] = d(e.covariance(i, j));
+    v.publish_team_estimate(r, s, r == 0);
+  }
+  if (!v.landmarks_due()) return;
+  view::LandmarkSample l[kLandmarkCount];
+  for (std::int32_t j = 0; j < kLandmarkCount; ++j) l[j] = {j, d(kLandmarks[j].x), d(kLandmarks[j].y), {}};
+  v.publish_landmarks(stamp_ns, l, kLandmarkCount);
+}
+
 }  // namespace
 
 void run_diffdrive_landmarks(const TeamRunOptions& o) {
@@ -183,6 +204,7 @@ void run_diffdrive_landmarks(const TeamRunOptions& o) {
   std::vector<est::LandmarkMeasurement> lm;
   std::vector<est::team::RobotSighting> seen;
   Progress progress("diffdrive-landmarks", duration, o.quiet, Progress::Unit::simulated_s, 2.0);
+  node::Pacer pacer(o.view != nullptr ? o.view_speed : 0.0);
   for (int k = 1; k <= steps; ++k) {
     progress.update(k / kStepsPerSecond);
     for (int r = 0; r < kRobots; ++r) {
@@ -231,6 +253,11 @@ void run_diffdrive_landmarks(const TeamRunOptions& o) {
     w.p_true = filter->probability(true_h);
     w.best = filter->belief().most_probable();
     rows.push_back(w);
+    if (o.view != nullptr) {
+      const hal::TimeNs stamp_ns = static_cast<hal::TimeNs>(std::llround(w.t * 1e9));
+      pacer.at(stamp_ns);
+      feed_view(*o.view, stamp_ns, truth, *filter);
+    }
   }
   progress.finish();
 

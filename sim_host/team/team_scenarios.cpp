@@ -7,11 +7,11 @@ namespace sim::team {
 const std::vector<TeamScenarioInfo>& team_scenarios() {
   static const std::vector<TeamScenarioInfo> k = {
       {"coop-slam",
-       "the cooperative EKF-SLAM exercise: two holonomic point robots and one landmark, range only, shared z and u"},
-      {"coop-slam-team", "cooperative EKF-SLAM of four point robots and twelve landmarks, range and bearing"},
+       "the cooperative EKF-SLAM exercise: two holonomic point robots and one landmark, range only, shared z and u", 2},
+      {"coop-slam-team", "cooperative EKF-SLAM of four point robots and twelve landmarks, range and bearing", 4},
       {"diffdrive-landmarks",
        "three differential-drive robots, known landmarks, anonymous robot sightings resolved over the 3! "
-       "assignments, global localization"},
+       "assignments, global localization", 3},
   };
   return k;
 }
@@ -20,6 +20,12 @@ bool is_team_scenario(const std::string& name) {
   for (const TeamScenarioInfo& s : team_scenarios())
     if (s.name == name) return true;
   return false;
+}
+
+const TeamScenarioInfo& team_scenario(const std::string& name) {
+  for (const TeamScenarioInfo& s : team_scenarios())
+    if (s.name == name) return s;
+  throw std::runtime_error("unknown team scenario '" + name + "'");
 }
 
 void run_team_scenario(const TeamRunOptions& o) {

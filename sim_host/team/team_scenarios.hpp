@@ -7,6 +7,10 @@
 #include <string>
 #include <vector>
 
+namespace view {
+class LiveView;
+}
+
 namespace sim::team {
 
 struct TeamRunOptions {
@@ -16,14 +20,22 @@ struct TeamRunOptions {
   double duration_s = -1.0;  // negative: the scenario's own length
   bool plots = true;
   bool quiet = false;        // no progress line on a terminal
+  // Watched live (the view opened with the scenario's robots, TeamScenarioInfo::robots): at every step each robot's
+  // truth and estimate (node::feed_team's channels: /robot<a>/truth, /robot<a>/estimate and its ellipse, /status)
+  // and the landmarks (mapped, or the known ones), the run paced at view_speed times real time (0: as fast as it
+  // goes). The outputs are the same bits as an unwatched run's. Null: unwatched.
+  view::LiveView* view = nullptr;
+  double view_speed = 1.0;
 };
 
 struct TeamScenarioInfo {
   std::string name;
   std::string what;
+  int robots = 0;
 };
 const std::vector<TeamScenarioInfo>& team_scenarios();
 bool is_team_scenario(const std::string& name);
+const TeamScenarioInfo& team_scenario(const std::string& name);  // throws std::runtime_error for an unknown name
 
 // Runs the scenario end to end; throws std::runtime_error on bad options or unwritable output.
 void run_team_scenario(const TeamRunOptions& o);

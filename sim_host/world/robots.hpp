@@ -1,6 +1,6 @@
 #pragma once
-// Simulated robots that drive a route. Each step picks the command a simple controller gives towards the route's
-// next waypoint, then moves the true pose by drawing from the robot's motion model with the TRUE noise parameters
+// Simulated robots that drive a route or a control script (world/control_script.hpp). Each step picks the command a
+// simple controller gives towards the route's next waypoint, or the script's command in force, then moves the true pose by drawing from the robot's motion model with the TRUE noise parameters
 // (so the truth is a sample of the very process the filter models, with noise the filter is told is larger).
 // BicycleRobot and DiffDriveRobot report their commands; SimRobot (below) is every model behind one interface, with
 // what its sensors would see of each step (wheel travel, steering, the commanded twist).
@@ -17,6 +17,7 @@
 #include "est/motion/omni_wheels.hpp"
 #include "est/motion/velocity_model.hpp"
 #include "est/random/xoshiro128.hpp"
+#include "world/control_script.hpp"
 #include "world/route.hpp"
 
 namespace est::sim {
@@ -102,5 +103,9 @@ class SimRobot {
 // travel per tick (m).
 std::unique_ptr<SimRobot> make_robot(RobotKind kind, const Route& route, const Pose2& start, std::size_t next_waypoint,
                                      const RobotTruth& truth, float speed, float dt, double metres_per_tick);
+// A robot driven by `script` (kept by the caller) from `start`: step k takes the command in force at k dt, in the
+// model's terms (control_script.hpp); the bicycle's steering snaps to the handlebar's detents as on a route.
+std::unique_ptr<SimRobot> make_robot(RobotKind kind, const ControlScript& script, const Pose2& start,
+                                     const RobotTruth& truth, float dt, double metres_per_tick);
 
 }  // namespace est::sim

@@ -1,7 +1,9 @@
 // A team's live view as Foxglove Studio sees it: @foxglove/ws-protocol's FoxgloveClient subscribes to every channel
-// while `estimator_node --filter coop-ekf --replay LOG --view PORT --view-wait --replay-speed 4` replays a 5 s
-// coop-slam-team run (4 robots, 12 landmarks) as robot 0's node, then checks the advertised channels and their
-// schemas, and that each robot's estimate messages track its own truth messages.
+// of a 5 s coop-slam-team run (4 robots, 12 landmarks, seed 3) at 4x, either (--mode replay) its log replayed by
+// `estimator_node --filter coop-ekf --replay LOG --view PORT --view-wait --replay-speed 4` as robot 0's node, or
+// (--mode sim) the run itself, `sim_host run coop-slam-team --view PORT --view-wait --view-speed 4`; then checks the
+// advertised channels and their schemas, that each robot's estimate messages track its own truth messages, and that
+// every mapped landmark appears.
 import { readFileSync } from "node:fs";
 import foxglove from "@foxglove/ws-protocol";
 import WebSocket from "ws";
@@ -9,25 +11,17 @@ import { args, fail, freePort, startNode } from "./view_run.mjs";
 
 const { FoxgloveClient } = foxglove;
 const a = args();
-// The run's sidecar gives robot 0's node's replay options; its metrics the team and its map; its
-// team_estimates.csv (a header and one line per step) the steps.
-const sidecar = JSON.parse(readFileSync(a.run + "/run.lcmlog.json"));
-const metrics = JSON.parse(readFileSync(a.run + "/metrics.json"));
-const robots = metrics.robots, landmarks = metrics.shared.landmarks_mapped;
-const steps = readFileSync(a.run + "/team_estimates.csv", "utf8").trim().split("\n").length - 1;
+const sim = a.mode === "sim";
 const port = await freePort();
-const node = await startNode(a.node, [...sidecar.estimator_node_replays[0].trim().split(/\s+/), "--view", String(port),
-                                      "--view-wait", "--replay-speed", "4"]);
+const node = sim
+  ? await startNode(a.sim, ["run", "coop-slam-team", "--duration", "5", "--seed", "3", "--out", a.run, "--no-plots",
+                            "--quiet", "--view", String(port), "--view-wait", "--view-speed", "4"])
+  : await startNode(a.node, [...JSON.parse(readFileSync(a.run + "/run.lcmlog.json")).estimator_node_replays[0].trim()
+                               .split(/\s+/), "--view", String(port), "--view-wait", "--replay-speed", "4"]);
 
-const expected = { "/landmarks": "foxglove.SceneUpdate", "/status": "est.Status" };
-for (let r = 0; r < robots; ++r) {
-  expected[`/robot${r}/truth`] = "foxglove.PoseInFrame";
-  expected[`/robot${r}/estimate`] = "foxglove.PoseInFrame";
-  expected[`/robot${r}/estimate/ellipse`] = "foxglove.SceneUpdate";
-}
 const channels = new Map();  // channel id -> channel
 const topicOf = new Map();   // subscription id -> topic
-const got = Object.fromEntries(Object.keys(expected).map((t) => [t, []]));
+const got = {};  // topic -> its messages
 let serverName = null;
 
 const client = new FoxgloveClient({
@@ -45,21 +39,33 @@ client.on("advertise", (list) => {
 const decoder = new TextDecoder();
 client.on("message", ({ subscriptionId, data }) => {
   const topic = topicOf.get(subscriptionId);
-  got[topic]?.push(JSON.parse(decoder.decode(new Uint8Array(data.buffer, data.byteOffset, data.byteLength))));
+  (got[topic] ??= []).push(JSON.parse(decoder.decode(new Uint8Array(data.buffer, data.byteOffset, data.byteLength))));
 });
 
 const timeout = setTimeout(() => {
-  fail("no end of the replay in 60 s");
+  fail(`no end of the ${sim ? "run" : "replay"} in 60 s`);
   node.proc.kill("SIGTERM");
   client.close();
 }, 60000);
 await closed;  // the server closes the connection when the replay is over
 const { code, output } = await node.exited;
 clearTimeout(timeout);
-if (code !== 0) fail(`estimator_node exited with ${code}:\n${output}`);
+if (code !== 0) fail(`${sim ? "sim_host" : "estimator_node"} exited with ${code}:\n${output}`);
+
+// The run's metrics give the team and its map; its team_estimates.csv (a header and one line per step) the steps.
+const metrics = JSON.parse(readFileSync(a.run + "/metrics.json"));
+const robots = metrics.robots, landmarks = metrics.shared.landmarks_mapped;
+const steps = readFileSync(a.run + "/team_estimates.csv", "utf8").trim().split("\n").length - 1;
+const expected = { "/landmarks": "foxglove.SceneUpdate", "/status": "est.Status" };
+for (let r = 0; r < robots; ++r) {
+  expected[`/robot${r}/truth`] = "foxglove.PoseInFrame";
+  expected[`/robot${r}/estimate`] = "foxglove.PoseInFrame";
+  expected[`/robot${r}/estimate/ellipse`] = "foxglove.SceneUpdate";
+}
+for (const t of Object.keys(expected)) got[t] ??= [];
 
 // The channels and their schemas.
-if (serverName !== "estimator_node") fail("serverInfo name " + serverName);
+if (serverName !== (sim ? "sim_host" : "estimator_node")) fail("serverInfo name " + serverName);
 for (const [topic, schemaName] of Object.entries(expected)) {
   const ch = [...channels.values()].find((c) => c.topic === topic);
   if (!ch) { fail("not advertised: " + topic); continue; }
@@ -67,7 +73,7 @@ for (const [topic, schemaName] of Object.entries(expected)) {
   if (ch.encoding !== "json" || ch.schemaEncoding !== "jsonschema") fail(`${topic}: ${ch.encoding}/${ch.schemaEncoding}`);
   const schema = JSON.parse(ch.schema);
   if (schema.title !== schemaName || schema.type !== "object") fail(`${topic}: schema title ${schema.title}`);
-  const first = got[topic][0];
+  const first = got[topic]?.[0];
   if (!first) { fail("no message on " + topic); continue; }
   for (const key of Object.keys(first)) if (!(key in schema.properties)) fail(`${topic}: field ${key} not in its schema`);
 }
@@ -112,6 +118,6 @@ if (!status || !Array.isArray(status.bits) || status.covariance?.length !== 9) f
 if (got["/status"].length < 0.9 * steps) fail(`${got["/status"].length} status messages of ${steps} steps`);
 const summary = output.split("\n").find((l) => l.includes("view: ")) || "(no view line)";
 
-console.log(`foxglove client (team replay at 4x): ${channels.size} channels; ${report.join("; ")}; ${sets.length} landmark sets ` +
-            `(${lastSet.length} landmarks); ${got["/status"].length} status; node${summary}`);
+console.log(`foxglove client (team ${sim ? "run" : "replay"} at 4x): ${channels.size} channels; ${report.join("; ")}; ` +
+            `${sets.length} landmark sets (${lastSet.length} landmarks); ${got["/status"].length} status; ${summary}`);
 if (process.exitCode) console.log("0 passed, 1 failed"); else console.log("1 passed, 0 failed");

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "est/map/occupancy_grid.hpp"
 #include "est/sensor/steered_range_finder.hpp"
 #include "node/estimator_spec.hpp"
+#include "world/control_script.hpp"
 #include "world/landmark_sensor.hpp"
 #include "world/range_sensor.hpp"
 #include "world/robots.hpp"
@@ -64,6 +66,12 @@ struct ScenarioConfig {
   double speed_mps = 0.8;
   double duration_s = 60.0;
   std::size_t start_segment = 0;        // the run starts at the beginning of this route segment
+  // A control script in place of the route (world/control_script.hpp): timed commands in the model's own terms,
+  // each held until the next. Empty: the robot follows the route.
+  std::vector<est::sim::TimedCommand> controls;
+  // The start pose (m, m, rad); unset: the beginning of route segment start_segment (required with a script in a
+  // map_server map, which then has no route).
+  std::optional<est::Pose2> start_pose;
   // The omni base's true noise a1..a9 per 10 ms step (est::OmniParams::alpha); empty: the simulator's
   // (robot_models() in sim/sensor_stream.hpp).
   std::vector<float> omni_noise;
@@ -112,6 +120,8 @@ struct SimWorld {
   est::OccupancyGrid grid;
   est::DistanceTransform edt;
   est::LandmarkMap landmarks;     // the office's 16 posts; empty in a ROS map
+  // The office's (with a control script too: its start pose) or the file's; null: a control script in a map_server
+  // map.
   std::unique_ptr<est::sim::Route> route;
 };
 // Whether the world of a run has landmarks: the office's, or a landmark file's.

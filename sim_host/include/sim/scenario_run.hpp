@@ -14,8 +14,9 @@ struct RunOptions {
   std::string out;     // output directory (created)
   bool plots = true;   // the PNG figures (gnuplot)
   bool quiet = false;  // no progress line, even on a terminal
-  // The live view (view/live_view.hpp) on localhost:view_port (0: none; a single robot only), the run paced at
-  // view_speed times real time (0: as fast as it goes), started once a viewer subscribed with view_wait.
+  // The live view (view/live_view.hpp) on localhost:view_port (0: none; a single robot or a team: every robot's
+  // truth and estimate and the landmarks; an exercise has none), the run paced at view_speed times real time (0: as
+  // fast as it goes), started once a viewer subscribed with view_wait.
   std::uint16_t view_port = 0;
   double view_speed = 1.0;
   bool view_wait = false;
