@@ -15,6 +15,14 @@
 // correct() and fused, each with the landmark its frame's assignment gave it, by end_of_frame() (the loop calls it
 // after the last input of a stamp), or by the next predict() or a feature of another stamp. A frame of more than
 // kFrameSightings features is associated in parts of that many (counted as split).
+//
+// Re-opening the gate (`reopen_after` > 0): a feature of known correspondence that the gate refuses says the belief
+// is wrong or overconfident, and after a long gap several such refusals in a row say the robot is elsewhere than
+// the Gaussian allows; the refused features would never be fused again. After `reopen_after` consecutive gate
+// refusals of known-correspondence features, the belief is taken as relocalizing: its covariance is widened by
+// reopen_sigma_xy / reopen_sigma_theta (added variance) and the last feature is tried again (counted, reopenings()).
+// With joint association the same holds for frames: `reopen_after` frames in a row in which no feature is jointly
+// compatible with any landmark widen the belief, and the last frame is associated again.
 #include <cstdint>
 
 #include "est/assoc/jcbb.hpp"
@@ -38,6 +46,9 @@ struct EkfEstimatorConfig {
   float sigma_range_per_m = 0.0f;
   float lost_sigma_m = 5.0f;  // position standard deviation (the larger axis) above which the belief is degenerate
   bool sensor_ids = true;     // false: the sensor's ids are ignored, every feature is associated by table 7.3
+  std::uint32_t reopen_after = 0;   // consecutive gate refusals of known features that re-open the gate (0: never)
+  float reopen_sigma_xy = 0.5f;     // m, added to the position's deviation (in variance) when the gate re-opens
+  float reopen_sigma_theta = 0.3f;  // rad, added to the heading's
   bool joint_association = false;  // features without an id: associated per frame by JCBB instead of table 7.3
   JcbbParams jcbb{};
 };
@@ -101,8 +112,14 @@ class EkfEstimator {
     const bool known = z.id >= 0 && config_.sensor_ids;
     if (!known && config_.joint_association) return gather(z);
     const LandmarkNoise noise = noise_at(z.range_m);
-    const CorrectionResult r = known ? ekf_.correct_range_bearing(f, map_, z.id, noise)
-                                     : ekf_.correct_range_bearing_unknown(f, map_, noise).correction;
+    CorrectionResult r = known ? ekf_.correct_range_bearing(f, map_, z.id, noise)
+                               : ekf_.correct_range_bearing_unknown(f, map_, noise).correction;
+    if (known) {
+      if (r.status == CorrectionStatus::rejected_gate && config_.reopen_after > 0 &&
+          ++gate_refusals_ >= config_.reopen_after && reopen())
+        r = ekf_.correct_range_bearing(f, map_, z.id, noise);
+      if (accepted(r.status)) gate_refusals_ = 0;
+    }
     if (!accepted(r.status)) return StepOutcome::rejected;
     return lost() ? StepOutcome::degenerate : StepOutcome::applied;
   }
@@ -118,7 +135,16 @@ class EkfEstimator {
     }
     const int n = frame_n_;
     frame_n_ = 0;
-    const auto a = jcbb_.associate(ekf_.mean_vector(), ekf_.covariance(), s, n, map_, config_.jcbb);
+    auto a = jcbb_.associate(ekf_.mean_vector(), ekf_.covariance(), s, n, map_, config_.jcbb);
+    if (config_.reopen_after > 0 && a.ok) {
+      bool any = false;
+      for (int i = 0; i < n; ++i) any = any || a.landmark_of[i] >= 0;
+      if (any) {
+        gate_refusals_ = 0;
+      } else if (++gate_refusals_ >= config_.reopen_after && reopen()) {
+        a = jcbb_.associate(ekf_.mean_vector(), ekf_.covariance(), s, n, map_, config_.jcbb);
+      }
+    }
     ++joint_.frames;
     joint_.features += static_cast<std::uint32_t>(n);
     joint_.candidates_dropped += a.candidates_dropped;
@@ -156,6 +182,7 @@ class EkfEstimator {
   const Filter& filter() const { return ekf_; }
   const JointAssociationCounters& joint_counters() const { return joint_; }
   bool frame_pending() const { return frame_n_ > 0; }
+  std::uint32_t reopenings() const { return reopenings_; }
 
  private:
   LandmarkNoise noise_at(float range_m) const {
@@ -177,6 +204,18 @@ class EkfEstimator {
     return o;
   }
 
+  // The gate re-opened: the covariance widened (the mean kept); false if the filter refused it.
+  bool reopen() {
+    typename Filter::Covariance P = ekf_.covariance();
+    P(0, 0) += config_.reopen_sigma_xy * config_.reopen_sigma_xy;
+    P(1, 1) += config_.reopen_sigma_xy * config_.reopen_sigma_xy;
+    P(2, 2) += config_.reopen_sigma_theta * config_.reopen_sigma_theta;
+    if (!ekf_.init(ekf_.mean(), P)) return false;
+    gate_refusals_ = 0;
+    ++reopenings_;
+    return true;
+  }
+
   bool lost() const {
     const float limit = config_.lost_sigma_m * config_.lost_sigma_m;
     return ekf_.covariance()(0, 0) > limit || ekf_.covariance()(1, 1) > limit;
@@ -190,6 +229,8 @@ class EkfEstimator {
   LandmarkInput frame_[kFrameSightings];
   int frame_n_ = 0;
   JointAssociationCounters joint_{};
+  std::uint32_t gate_refusals_ = 0;  // consecutive gate refusals of known features (or frames with no pairing)
+  std::uint32_t reopenings_ = 0;
 };
 
 }  // namespace est::loop
