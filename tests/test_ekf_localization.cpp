@@ -268,8 +268,8 @@ TEST_CASE("motion-proportional noise grows with the path driven and turned, not 
     CHECK(f.covariance()(1, 1) == Approx(1e-6 + 0.01).epsilon(0.01));   // along
     CHECK(f.covariance()(2, 2) == Approx(1e-6 + 0.002).epsilon(0.01));  // heading per metre
     // across: the cross term plus the heading's uncertainty levered over the path (G), at least the cross term
-    CHECK(f.covariance()(0, 0) > 1e-6 + 0.001);
-    CHECK(f.covariance()(0, 0) < 1e-6 + 0.001 + 0.002 * 1.0 / 3.0 + 1e-4);  // + var(theta) grown linearly, s^2 / 3
+    CHECK(static_cast<double>(f.covariance()(0, 0)) > 1e-6 + 0.001);
+    CHECK(static_cast<double>(f.covariance()(0, 0)) < 1e-6 + 0.001 + 0.002 * 1.0 / 3.0 + 1e-4);  // + var(theta) grown linearly, s^2 / 3
   }
   // Turning on the spot by 1 rad: heading_per_rad, no position noise; standing still for as long: nothing.
   Ekf turn(p), still(p);
