@@ -186,6 +186,8 @@ class EkfLocalization {
   // MotionProportionalNoise over the step from `from` to `to`, rotated into the world frame at the mid heading.
   void add_motion_noise(const Vector& from, const Vector& to, Covariance& P) const {
     const MotionProportionalNoise& q = params_.motion_noise;
+    if (!(q.along_per_m > 0.0f || q.cross_per_m > 0.0f || q.heading_per_m > 0.0f || q.heading_per_rad > 0.0f))
+      return;  // none configured: the prediction's cost and bits as without it
     const float dx = to(0) - from(0), dy = to(1) - from(1);
     const float dist = fmath::sqrt(dx * dx + dy * dy);
     const float dtheta = fmath::normalize_angle(to(2) - from(2));
