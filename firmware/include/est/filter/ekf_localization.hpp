@@ -42,8 +42,8 @@ struct PredictionCounters {
 };
 
 // Process noise that grows with the motion of a prediction rather than with its duration: variances per metre driven
-// and per radian turned (the predicted mean's change), added in the robot's frame at the heading halfway through the
-// step. A random walk over the path, not over time (the book's M_t, var = a v^2 dt^2 per step, shrinks with the
+// and per radian turned (the predicted mean's change), added in the robot's frame along the step's chord (the
+// heading halfway through an arc). A random walk over the path, not over time (the book's M_t, var = a v^2 dt^2 per step, shrinks with the
 // step and vanishes at high rates; a constant noise per step diffuses the heading while the robot drives straight
 // or stands still): a robot that does not turn does not lose heading by turning. Zero by default; each >= 0.
 struct MotionProportionalNoise {
@@ -183,7 +183,7 @@ class EkfLocalization {
   static constexpr std::int32_t kNoLandmark = -2;
   static constexpr std::int32_t kAmbiguous = -3;
 
-  // MotionProportionalNoise over the step from `from` to `to`, rotated into the world frame at the mid heading.
+  // MotionProportionalNoise over the step from `from` to `to`, rotated into the world frame along the chord.
   void add_motion_noise(const Vector& from, const Vector& to, Covariance& P) const {
     const MotionProportionalNoise& q = params_.motion_noise;
     if (!(q.along_per_m > 0.0f || q.cross_per_m > 0.0f || q.heading_per_m > 0.0f || q.heading_per_rad > 0.0f))
@@ -193,9 +193,9 @@ class EkfLocalization {
     const float dtheta = fmath::normalize_angle(to(2) - from(2));
     const float turned = fmath::abs(dtheta);
     const float a = q.along_per_m * dist, c = q.cross_per_m * dist;
-    if (a > 0.0f || c > 0.0f) {
-      const float psi = from(2) + 0.5f * dtheta;
-      const float cs = fmath::cos(psi), sn = fmath::sin(psi);
+    if ((a > 0.0f || c > 0.0f) && dist > 0.0f) {
+      // The chord's direction: the heading halfway through an arc (theta + w dt / 2), without a sine or cosine.
+      const float cs = dx / dist, sn = dy / dist;
       P(0, 0) += a * cs * cs + c * sn * sn;
       P(1, 1) += a * sn * sn + c * cs * cs;
       const float xy = (a - c) * cs * sn;

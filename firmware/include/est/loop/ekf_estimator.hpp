@@ -135,15 +135,18 @@ class EkfEstimator {
     }
     const int n = frame_n_;
     frame_n_ = 0;
-    auto a = jcbb_.associate(ekf_.mean_vector(), ekf_.covariance(), s, n, map_, config_.jcbb);
-    if (config_.reopen_after > 0 && a.ok) {
+    // At most two searches (one call site, so the search is compiled once): the second after the gate re-opened.
+    typename Jcbb::Result a;
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      a = jcbb_.associate(ekf_.mean_vector(), ekf_.covariance(), s, n, map_, config_.jcbb);
+      if (attempt > 0 || config_.reopen_after == 0 || !a.ok) break;
       bool any = false;
       for (int i = 0; i < n; ++i) any = any || a.landmark_of[i] >= 0;
       if (any) {
         gate_refusals_ = 0;
-      } else if (++gate_refusals_ >= config_.reopen_after && reopen()) {
-        a = jcbb_.associate(ekf_.mean_vector(), ekf_.covariance(), s, n, map_, config_.jcbb);
+        break;
       }
+      if (++gate_refusals_ < config_.reopen_after || !reopen()) break;
     }
     ++joint_.frames;
     joint_.features += static_cast<std::uint32_t>(n);
@@ -225,7 +228,8 @@ class EkfEstimator {
   Filter ekf_;
   LandmarkMap map_;
   bool initialized_ = false;
-  JointCompatibility<kFrameSightings, kCandidates> jcbb_;
+  using Jcbb = JointCompatibility<kFrameSightings, kCandidates>;
+  Jcbb jcbb_;
   LandmarkInput frame_[kFrameSightings];
   int frame_n_ = 0;
   JointAssociationCounters joint_{};
