@@ -529,3 +529,37 @@ TEST_CASE("joint association is a capacity of the type: without it nothing is st
   DiffEstimator plain(c, kMap);
   CHECK(plain.initialize_at({0.0f, 0.0f, 0.0f}, 0.4f, 0.02f));
 }
+
+TEST_CASE("after reopen_after gate refusals in a row the belief is widened and the known landmark fused",
+          "[ekf_estimator]") {
+  auto c = diff_config();
+  c.reopen_after = 3;
+  c.reopen_sigma_xy = 1.0f;
+  c.reopen_sigma_theta = 0.3f;
+  // The robot is at (3.5, 1) but believes (3, 1) within 0.02 m: landmark 1 at (6, 0) is seen 0.5 m nearer than
+  // expected, 10 sigma of range: gated.
+  const float r = std::hypot(2.5f, 1.0f), b = std::atan2(-1.0f, 2.5f);
+  DiffEstimator ekf(c, kMap);
+  REQUIRE(ekf.initialize_at({3.0f, 1.0f, 0.0f}, 0.02f, 0.01f));
+  auto never = c;
+  never.reopen_after = 0;
+  DiffEstimator stubborn(never, kMap);
+  REQUIRE(stubborn.initialize_at({3.0f, 1.0f, 0.0f}, 0.02f, 0.01f));
+  for (int k = 0; k < 2; ++k) {
+    CHECK(ekf.correct(est::loop::LandmarkInput{k * kMs, r, b, 2.0f, 1}) == est::loop::StepOutcome::rejected);
+    CHECK(ekf.reopenings() == 0u);
+  }
+  CHECK(ekf.correct(est::loop::LandmarkInput{2 * kMs, r, b, 2.0f, 1}) == est::loop::StepOutcome::applied);
+  CHECK(ekf.reopenings() == 1u);
+  CHECK(ekf.estimate().mean.x > 3.3f);  // most of the 0.5 m taken from the one sighting
+  for (int k = 0; k < 3; ++k)
+    CHECK(stubborn.correct(est::loop::LandmarkInput{k * kMs, r, b, 2.0f, 1}) == est::loop::StepOutcome::rejected);
+  CHECK(stubborn.reopenings() == 0u);
+  CHECK(stubborn.estimate().mean.x == 3.0f);
+  // A fused sighting resets the count: two refusals, one fused, two refusals do not re-open.
+  DiffEstimator again(c, kMap);
+  REQUIRE(again.initialize_at({3.0f, 1.0f, 0.0f}, 0.02f, 0.01f));
+  const float r0 = std::hypot(3.0f, 1.0f), b0 = std::atan2(-1.0f, 3.0f);
+  for (float range : {r, r, r0, r, r}) again.correct(est::loop::LandmarkInput{0, range, range == r ? b : b0, 2.0f, 1});
+  CHECK(again.reopenings() == 0u);
+}

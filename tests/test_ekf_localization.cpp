@@ -244,3 +244,43 @@ TEST_CASE("range-only beacons localize a robot (known correspondences)", "[ekf_l
   CHECK(nees_sum / 100.0 < est::test::chi_square_critical(300, 0.001) / 100.0 * 1.5);  // one run: loose
   CHECK(spd(f.covariance()));
 }
+
+TEST_CASE("motion-proportional noise grows with the path driven and turned, not with the time, in the robot frame",
+          "[ekf_localization]") {
+  World w;
+  w.motion = est::VelocityParams{};  // no velocity noise: only the proportional terms
+  w.motion.dt = 0.01f;
+  Ekf::Params p;
+  p.motion_noise.along_per_m = 0.01f;
+  p.motion_noise.cross_per_m = 0.001f;
+  p.motion_noise.heading_per_m = 0.002f;
+  p.motion_noise.heading_per_rad = 0.004f;
+  const Ekf::Covariance p0 = Ekf::Covariance::Identity() * 1e-6f;
+  // 1 m straight along the y axis in 100 or 1000 steps: the same variance (a random walk over the path), along
+  // the heading in y, across it in x; the heading gains heading_per_m only.
+  for (int steps : {100, 1000}) {
+    Ekf f(p);
+    REQUIRE(f.init({0.0f, 0.0f, 1.5707964f}, p0));
+    w.motion.dt = 1.0f / static_cast<float>(steps);
+    for (int k = 0; k < steps; ++k) REQUIRE(f.predict({1.0f, 0.0f}, w.motion) == est::MotionStatus::ok);
+    INFO(steps << " steps");
+    CHECK(f.mean().y == Approx(1.0f).margin(1e-4));
+    CHECK(f.covariance()(1, 1) == Approx(1e-6 + 0.01).epsilon(0.01));   // along
+    CHECK(f.covariance()(2, 2) == Approx(1e-6 + 0.002).epsilon(0.01));  // heading per metre
+    // across: the cross term plus the heading's uncertainty levered over the path (G), at least the cross term
+    CHECK(static_cast<double>(f.covariance()(0, 0)) > 1e-6 + 0.001);
+    CHECK(static_cast<double>(f.covariance()(0, 0)) < 1e-6 + 0.001 + 0.002 * 1.0 / 3.0 + 1e-4);  // + var(theta) grown linearly, s^2 / 3
+  }
+  // Turning on the spot by 1 rad: heading_per_rad, no position noise; standing still for as long: nothing.
+  Ekf turn(p), still(p);
+  REQUIRE(turn.init({0.0f, 0.0f, 0.0f}, p0));
+  REQUIRE(still.init({0.0f, 0.0f, 0.0f}, p0));
+  w.motion.dt = 0.01f;
+  for (int k = 0; k < 100; ++k) {
+    REQUIRE(turn.predict({0.0f, 1.0f}, w.motion) == est::MotionStatus::ok);
+    REQUIRE(still.predict({0.0f, 0.0f}, w.motion) == est::MotionStatus::ok);
+  }
+  CHECK(turn.covariance()(2, 2) == Approx(1e-6 + 0.004).epsilon(0.01));
+  CHECK(turn.covariance()(0, 0) == Approx(1e-6).epsilon(0.01));
+  CHECK(still.covariance() == p0);
+}

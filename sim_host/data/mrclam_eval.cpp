@@ -81,7 +81,11 @@ Trajectory run_node(const MrclamEval& ev, const MrclamRobotLog& r, const std::st
   s.model = node::RobotModel::velocity;
   s.motion.velocity = motion_noise(o.noise);
   s.landmark_noise = camera_noise(o.noise);
-  s.ekf_rot_sigma = o.noise.rot_sigma;
+  s.ekf_rot_sigma = o.noise.ekf_rot_sigma >= 0.0f ? o.noise.ekf_rot_sigma : o.noise.rot_sigma;
+  s.ekf_motion_noise = o.noise.ekf_motion;
+  s.ekf_reopen_after = o.noise.reopen_after;
+  s.ekf_reopen_sigma_xy = o.noise.reopen_sigma_xy;
+  s.ekf_reopen_sigma_theta = o.noise.reopen_sigma_theta;
   s.ambiguity_nats = o.noise.ambiguity_nats;
   s.joint_association = o.noise.joint_association;
   const TimedPose x0 = first_truth(r);
@@ -418,6 +422,23 @@ void add_mrclam_eval(CLI::App& eval) {
   auto a = std::make_shared<std::vector<float>>(std::begin(opts->noise.a), std::end(opts->noise.a));
   cmd->add_option("--motion-noise", *a, "the velocity model's a1..a6")->delimiter(',')->expected(6)
       ->default_str("0.5,0.05,0.3,0.5,0.01,0.01");
+  cmd->add_option("--ekf-rot-sigma", opts->noise.ekf_rot_sigma,
+                  "the single-robot EKFs' heading noise per 10 ms prediction (rad; < 0: --rot-sigma)")
+      ->capture_default_str();
+  cmd->add_option("--ekf-heading-noise-per-rad", opts->noise.ekf_motion.heading_per_rad,
+                  "the single-robot EKFs' heading variance per radian turned (rad^2 / rad)")->capture_default_str();
+  cmd->add_option("--ekf-heading-noise-per-m", opts->noise.ekf_motion.heading_per_m,
+                  "the single-robot EKFs' heading variance per metre driven (rad^2 / m)")->capture_default_str();
+  cmd->add_option("--ekf-along-noise-per-m", opts->noise.ekf_motion.along_per_m,
+                  "the single-robot EKFs' along-track variance per metre driven (m^2 / m)")->capture_default_str();
+  cmd->add_option("--ekf-cross-noise-per-m", opts->noise.ekf_motion.cross_per_m,
+                  "the single-robot EKFs' cross-track variance per metre driven (m^2 / m)")->capture_default_str();
+  cmd->add_option("--reopen-after", opts->noise.reopen_after,
+                  "the single-robot EKFs: consecutive gate refusals (known landmarks) or frames without a pairing (unknown correspondence) that re-open the gate (0: never)")->capture_default_str();
+  cmd->add_option("--reopen-sigma-xy", opts->noise.reopen_sigma_xy, "position deviation added when it re-opens (m)")
+      ->capture_default_str();
+  cmd->add_option("--reopen-sigma-theta", opts->noise.reopen_sigma_theta, "heading deviation added (rad)")
+      ->capture_default_str();
   cmd->add_flag("--json", *json, "print the results as JSON on stdout instead of the table");
   cmd->add_flag("--no-plots", [opts](std::int64_t) { opts->plots = false; }, "skip the PNGs");
   cmd->add_flag("--quiet", opts->quiet, "no progress, no import diagnostics");

@@ -236,6 +236,10 @@ class PipelineImpl final : public EstimatorPipeline {
       return Estimator(e, s.seed, make_scan_model<ScanModel>(s, m), m.free_space);
     } else {
       e.ekf.additive_process_noise(2, 2) = s.ekf_rot_sigma * s.ekf_rot_sigma;
+      e.ekf.motion_noise = s.ekf_motion_noise;
+      e.reopen_after = s.ekf_reopen_after;
+      e.reopen_sigma_xy = s.ekf_reopen_sigma_xy;
+      e.reopen_sigma_theta = s.ekf_reopen_sigma_theta;
       e.ekf.ambiguity_nats = s.ambiguity_nats;
       e.joint_association = s.joint_association;
       e.noise = s.landmark_noise;

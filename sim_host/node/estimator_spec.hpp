@@ -97,6 +97,10 @@ struct EstimatorSpec {
   est::LandmarkNoise landmark_noise{0.05f, 0.02f, 0.0f};
   float landmark_sigma_range_per_m = 0.0f;  // EKF: the range noise grows by this per metre of range (a camera's)
   float ekf_rot_sigma = 0.002f;  // heading noise added per prediction (rad): what the motion model leaves out
+  est::MotionProportionalNoise ekf_motion_noise{};  // EKF: noise per metre driven and per radian turned
+  std::uint32_t ekf_reopen_after = 0;  // EKF: consecutive gate refusals of known features that re-open the gate
+  float ekf_reopen_sigma_xy = 0.5f;
+  float ekf_reopen_sigma_theta = 0.3f;
   float lost_sigma_m = 5.0f;
   bool landmark_ids = true;    // false: the sensor's landmark ids are ignored (association by maximum likelihood)
   float ambiguity_nats = 0.0f;  // EKF, maximum likelihood: refuse a feature whose runner-up is this close (nats)

@@ -289,6 +289,20 @@ void add_options(CLI::App& app, NodeConfig& c) {
   app.add_flag("--mcl-landmarks", e.mcl_landmarks,
                "MCL also corrects with landmark sightings on --landmarks (table 6.4 per particle)")->group(ekf);
   app.add_option("--ekf-rot-sigma", e.ekf_rot_sigma, "heading noise added to every EKF prediction (rad)")->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
+  app.add_option("--ekf-heading-noise-per-rad", e.ekf_motion_noise.heading_per_rad,
+                 "EKF: heading variance added per radian turned (rad^2 / rad), a random walk over the turns")
+      ->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
+  app.add_option("--ekf-heading-noise-per-m", e.ekf_motion_noise.heading_per_m,
+                 "EKF: heading variance added per metre driven (rad^2 / m)")->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
+  app.add_option("--ekf-along-noise-per-m", e.ekf_motion_noise.along_per_m,
+                 "EKF: along-track position variance added per metre driven (m^2 / m)")->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
+  app.add_option("--ekf-cross-noise-per-m", e.ekf_motion_noise.cross_per_m,
+                 "EKF: cross-track position variance added per metre driven (m^2 / m)")->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
+  app.add_option("--ekf-reopen-after", e.ekf_reopen_after,
+                 "EKF: after this many consecutive gate refusals of known-correspondence features the covariance is "
+                 "widened by --ekf-reopen-sigma-xy/-theta and the feature fused again (0: never)")->capture_default_str()->group(ekf);
+  app.add_option("--ekf-reopen-sigma-xy", e.ekf_reopen_sigma_xy, "EKF: position deviation added when the gate re-opens (m)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
+  app.add_option("--ekf-reopen-sigma-theta", e.ekf_reopen_sigma_theta, "EKF: heading deviation added when the gate re-opens (rad)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
   app.add_option("--lost-sigma", e.lost_sigma_m, "EKF: position sigma above which the estimate is flagged degenerate (m)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
 
   const char* filter = "Filter: augmented MCL (--filter mcl)";
@@ -434,6 +448,14 @@ std::string command_line(const EstimatorSpec& e, const std::string& map, const s
     o += " --landmark-sigma-range-per-m " + f(e.landmark_sigma_range_per_m);
   if (e.filter == est::loop::Filter::ekf) {
     o += " --ekf-rot-sigma " + f(e.ekf_rot_sigma) + " --lost-sigma " + f(e.lost_sigma_m);
+    const est::MotionProportionalNoise& q = e.ekf_motion_noise;
+    if (q.heading_per_rad > 0.0f) o += " --ekf-heading-noise-per-rad " + f(q.heading_per_rad);
+    if (q.heading_per_m > 0.0f) o += " --ekf-heading-noise-per-m " + f(q.heading_per_m);
+    if (q.along_per_m > 0.0f) o += " --ekf-along-noise-per-m " + f(q.along_per_m);
+    if (q.cross_per_m > 0.0f) o += " --ekf-cross-noise-per-m " + f(q.cross_per_m);
+    if (e.ekf_reopen_after > 0)
+      o += " --ekf-reopen-after " + std::to_string(e.ekf_reopen_after) + " --ekf-reopen-sigma-xy " +
+           f(e.ekf_reopen_sigma_xy) + " --ekf-reopen-sigma-theta " + f(e.ekf_reopen_sigma_theta);
   } else {
     if (e.mcl_landmarks) o += " --mcl-landmarks";
     o += " --map " + map + " --sensor-model " + to_string(e.range_model) + " --sensor-mount " + pose(e.sensor_mount) +

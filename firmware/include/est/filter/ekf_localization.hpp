@@ -41,6 +41,18 @@ struct PredictionCounters {
   std::uint32_t rejected_range = 0;
 };
 
+// Process noise that grows with the motion of a prediction rather than with its duration: variances per metre driven
+// and per radian turned (the predicted mean's change), added in the robot's frame along the step's chord (the
+// heading halfway through an arc). A random walk over the path, not over time (the book's M_t, var = a v^2 dt^2 per step, shrinks with the
+// step and vanishes at high rates; a constant noise per step diffuses the heading while the robot drives straight
+// or stands still): a robot that does not turn does not lose heading by turning. Zero by default; each >= 0.
+struct MotionProportionalNoise {
+  float along_per_m = 0.0f;      // m^2 along the heading per m driven
+  float cross_per_m = 0.0f;      // m^2 across the heading per m driven
+  float heading_per_m = 0.0f;    // rad^2 per m driven
+  float heading_per_rad = 0.0f;  // rad^2 per rad turned
+};
+
 // Which landmark a measurement was fused with (-1 if none) and how.
 struct AssociationResult {
   CorrectionResult correction;
@@ -65,6 +77,8 @@ class EkfLocalization {
     // Added to V M V^T every prediction: unmodelled motion (slip, the velocity model's final turn gamma). Zero by
     // default; must be symmetric positive semi-definite.
     Covariance additive_process_noise = Covariance::Zero();
+    // Added every prediction in proportion to the predicted motion (a model with a heading only).
+    MotionProportionalNoise motion_noise{};
     // Unknown correspondence: the least margin (log likelihood, nats) of the best gated landmark over the second
     // for a measurement to be fused; 0 fuses the maximum whatever the margin (table 7.3 as printed).
     float ambiguity_nats = 0.0f;
@@ -96,6 +110,7 @@ class EkfLocalization {
     const auto J = Model::jacobians(prev, u, mp);
     const Vector next = Traits::to_vector(Model::predict(prev, u, mp));
     Covariance P = J.G * P_ * J.G.transpose() + J.V * J.M * J.V.transpose() + params_.additive_process_noise;
+    if constexpr (Traits::kHasHeading) add_motion_noise(mu_, next, P);
     P = (0.5f * (P + P.transpose())).eval();
     for (int i = 0; i < D; ++i) {
       if (!fmath::isfinite(next(i))) {
@@ -167,6 +182,28 @@ class EkfLocalization {
  private:
   static constexpr std::int32_t kNoLandmark = -2;
   static constexpr std::int32_t kAmbiguous = -3;
+
+  // MotionProportionalNoise over the step from `from` to `to`, rotated into the world frame along the chord.
+  void add_motion_noise(const Vector& from, const Vector& to, Covariance& P) const {
+    const MotionProportionalNoise& q = params_.motion_noise;
+    if (!(q.along_per_m > 0.0f || q.cross_per_m > 0.0f || q.heading_per_m > 0.0f || q.heading_per_rad > 0.0f))
+      return;  // none configured: the prediction's cost and bits as without it
+    const float dx = to(0) - from(0), dy = to(1) - from(1);
+    const float dist = fmath::sqrt(dx * dx + dy * dy);
+    const float dtheta = fmath::normalize_angle(to(2) - from(2));
+    const float turned = fmath::abs(dtheta);
+    const float a = q.along_per_m * dist, c = q.cross_per_m * dist;
+    if ((a > 0.0f || c > 0.0f) && dist > 0.0f) {
+      // The chord's direction: the heading halfway through an arc (theta + w dt / 2), without a sine or cosine.
+      const float cs = dx / dist, sn = dy / dist;
+      P(0, 0) += a * cs * cs + c * sn * sn;
+      P(1, 1) += a * sn * sn + c * cs * cs;
+      const float xy = (a - c) * cs * sn;
+      P(0, 1) += xy;
+      P(1, 0) += xy;
+    }
+    P(2, 2) += q.heading_per_m * dist + q.heading_per_rad * turned;
+  }
 
   static Eigen::Matrix2f q_of(const LandmarkNoise& n) {
     Eigen::Matrix2f Q = Eigen::Matrix2f::Zero();

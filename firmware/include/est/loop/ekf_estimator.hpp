@@ -20,7 +20,16 @@
 // assignment gave it, by end_of_frame() (the loop calls it after the last input of a stamp), or by the next
 // predict() or a feature of another stamp. A frame of more than JointSightings features is associated in parts of
 // that many (counted as split).
+//
+// Re-opening the gate (`reopen_after` > 0): a feature of known correspondence that the gate refuses says the belief
+// is wrong or overconfident, and after a long gap several such refusals in a row say the robot is elsewhere than
+// the Gaussian allows; the refused features would never be fused again. After `reopen_after` consecutive gate
+// refusals of known-correspondence features, the belief is taken as relocalizing: its covariance is widened by
+// reopen_sigma_xy / reopen_sigma_theta (added variance) and the last feature is tried again (counted, reopenings()).
+// With joint association the same holds for frames: `reopen_after` frames in a row in which no feature is jointly
+// compatible with any landmark widen the belief, and the last frame is associated again.
 #include <cstdint>
+#include <type_traits>
 
 #include "est/assoc/jcbb.hpp"
 #include "est/filter/ekf_localization.hpp"
@@ -43,6 +52,9 @@ struct EkfEstimatorConfig {
   float sigma_range_per_m = 0.0f;
   float lost_sigma_m = 5.0f;  // position standard deviation (the larger axis) above which the belief is degenerate
   bool sensor_ids = true;     // false: the sensor's ids are ignored, every feature is associated by table 7.3
+  std::uint32_t reopen_after = 0;   // consecutive gate refusals of known features that re-open the gate (0: never)
+  float reopen_sigma_xy = 0.5f;     // m, added to the position's deviation (in variance) when the gate re-opens
+  float reopen_sigma_theta = 0.3f;  // rad, added to the heading's
   bool joint_association = false;  // features without an id: associated per frame by JCBB instead of table 7.3
                                    // (needs an EkfEstimator with JointSightings > 0)
   JcbbParams jcbb{};
@@ -131,8 +143,14 @@ class EkfEstimator {
     if constexpr (kJointAssociation)
       if (!known && config_.joint_association) return gather(z);
     const LandmarkNoise noise = noise_at(z.range_m);
-    const CorrectionResult r = known ? ekf_.correct_range_bearing(f, map_, z.id, noise)
-                                     : ekf_.correct_range_bearing_unknown(f, map_, noise).correction;
+    CorrectionResult r = known ? ekf_.correct_range_bearing(f, map_, z.id, noise)
+                               : ekf_.correct_range_bearing_unknown(f, map_, noise).correction;
+    if (known) {
+      if (r.status == CorrectionStatus::rejected_gate && config_.reopen_after > 0 &&
+          ++gate_refusals_ >= config_.reopen_after && reopen())
+        r = ekf_.correct_range_bearing(f, map_, z.id, noise);
+      if (accepted(r.status)) gate_refusals_ = 0;
+    }
     if (!accepted(r.status)) return StepOutcome::rejected;
     return lost() ? StepOutcome::degenerate : StepOutcome::applied;
   }
@@ -157,6 +175,7 @@ class EkfEstimator {
   const Filter& filter() const { return ekf_; }
   const JointAssociationCounters& joint_counters() const { return joint_.counters; }
   bool frame_pending() const { return joint_.n > 0; }
+  std::uint32_t reopenings() const { return reopenings_; }
 
  private:
   // Fuses the gathered frame: JCBB's assignment, then each paired feature with its landmark (table 7.2 lines
@@ -171,7 +190,19 @@ class EkfEstimator {
     }
     const int n = st.n;
     st.n = 0;
-    const auto a = st.jcbb.associate(ekf_.mean_vector(), ekf_.covariance(), s, n, map_, config_.jcbb);
+    // At most two searches (one call site, so the search is compiled once): the second after the gate re-opened.
+    typename std::remove_reference_t<decltype(st.jcbb)>::Result a;
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      a = st.jcbb.associate(ekf_.mean_vector(), ekf_.covariance(), s, n, map_, config_.jcbb);
+      if (attempt > 0 || config_.reopen_after == 0 || !a.ok) break;
+      bool any = false;
+      for (int i = 0; i < n; ++i) any = any || a.landmark_of[i] >= 0;
+      if (any) {
+        gate_refusals_ = 0;
+        break;
+      }
+      if (++gate_refusals_ < config_.reopen_after || !reopen()) break;
+    }
     JointAssociationCounters& c = st.counters;
     ++c.frames;
     c.features += static_cast<std::uint32_t>(n);
@@ -218,6 +249,18 @@ class EkfEstimator {
     return o;
   }
 
+  // The gate re-opened: the covariance widened (the mean kept); false if the filter refused it.
+  bool reopen() {
+    typename Filter::Covariance P = ekf_.covariance();
+    P(0, 0) += config_.reopen_sigma_xy * config_.reopen_sigma_xy;
+    P(1, 1) += config_.reopen_sigma_xy * config_.reopen_sigma_xy;
+    P(2, 2) += config_.reopen_sigma_theta * config_.reopen_sigma_theta;
+    if (!ekf_.init(ekf_.mean(), P)) return false;
+    gate_refusals_ = 0;
+    ++reopenings_;
+    return true;
+  }
+
   bool lost() const {
     const float limit = config_.lost_sigma_m * config_.lost_sigma_m;
     return ekf_.covariance()(0, 0) > limit || ekf_.covariance()(1, 1) > limit;
@@ -228,6 +271,8 @@ class EkfEstimator {
   LandmarkMap map_;
   bool initialized_ = false;
   detail::JointAssociationState<JointSightings, kCandidates> joint_{};
+  std::uint32_t gate_refusals_ = 0;  // consecutive gate refusals of known features (or frames with no pairing)
+  std::uint32_t reopenings_ = 0;
 };
 
 }  // namespace est::loop
