@@ -1,7 +1,8 @@
 // sim_host import / eval victoria (sim_host/data/victoria.hpp, victoria_eval.hpp) on Victoria Park
 // (../shared/datasets/victoria-park; skipped when absent): what the import writes and counts, the speed and the tree
 // detections moved to the front axle, malformed lines skipped or refused with their place, and EKF-SLAM with unknown
-// correspondence on a slice within bounds of GPS, so that a regression on real data fails here.
+// correspondence (estimator_node --filter ekf-slam's replay) on a slice within bounds of GPS, so that a regression on
+// real data fails here.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -131,7 +132,8 @@ TEST_CASE("Victoria Park, first 200 s: EKF-SLAM with unknown correspondence with
   const VictoriaEval ev = eval_victoria(dir, o);
   const VictoriaRun& slam = run(ev, "ekf-slam");
   const VictoriaRun& dr = run(ev, "dead-reckoning");
-  // Measured (December 2026): EKF-SLAM 1.48 m RMSE over 615 fixes (max 3.1 m), 94 landmarks; dead reckoning 30.9 m.
+  // EKF-SLAM is estimator_node --filter ekf-slam replaying the imported log. Measured (December 2026): 1.48 m RMSE
+  // over 615 fixes (max 3.1 m), 93 landmarks; dead reckoning 30.5 m.
   CHECK(slam.gps.n > 600u);
   CHECK(slam.gps.rmse_xy_m < 2.5);
   CHECK(slam.gps.max_xy_m < 6.0);
@@ -140,6 +142,11 @@ TEST_CASE("Victoria Park, first 200 s: EKF-SLAM with unknown correspondence with
   CHECK(slam.landmarks <= 170);
   CHECK(slam.refused == 0u);
   CHECK(slam.associated > 4000u);
+  // Every tree detection of the slice ends in one of the node's counters; none refused by the filter.
+  CHECK(slam.associated + slam.created + slam.discarded + slam.out_of_range + slam.tentative + slam.refused +
+            slam.update_refused + slam.tentative_full + slam.bad_input ==
+        ev.import.detections);
+  CHECK(slam.update_refused + slam.tentative_full + slam.bad_input == 0u);
   // The start pose from GPS: the car faces along RFS-SLAM's x axis (its frame is rotated for that).
   CHECK(std::fabs(ev.start.theta) < 0.15);
   // Dead reckoning is the log replayed through estimator_node's pipeline (one 32-bit traction counter: any rejected
@@ -159,7 +166,8 @@ TEST_CASE("Victoria Park, first 600 s: EKF-SLAM stays within 3.5 m RMSE of GPS t
   o.quiet = true;
   const VictoriaEval ev = eval_victoria(dir, o);
   const VictoriaRun& slam = run(ev, "ekf-slam");
-  // Measured (December 2026): 2.30 m RMSE, median 1.67 m, max 9.9 m, 147 landmarks, 3-5 s.
+  // Measured (December 2026, through estimator_node): 2.12 m RMSE, median 1.66 m, max 9.2 m, 147 landmarks, 3 s
+  // (2.30 m, 1.67 m, 9.9 m in process before).
   CHECK(slam.gps.rmse_xy_m < 3.5);
   CHECK(slam.gps_median_m < 2.5);
   CHECK(slam.landmarks >= 100);

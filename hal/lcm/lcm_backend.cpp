@@ -93,6 +93,8 @@ void LcmOutputs::publish_particles(TimeNs stamp_ns, const float* x, const float*
 
 void LcmOutputs::publish_ground_truth(const est_lcm::ground_truth_t& truth) { send(channels_.ground_truth, truth); }
 
+void LcmOutputs::publish_slam_map(const est_lcm::slam_map_t& map) { send(channels_.slam_map, map); }
+
 void LcmOutputs::publish_team(const est::team::TeamMessage& message) { send(channels_.team, to_lcm(message)); }
 
 }  // namespace hal::lcm

@@ -260,6 +260,13 @@ void add_victoria_import(CLI::App& import) {
                 "--steer-max 0.8 --max-steer 0.8 --ch-landmarks EST_LANDMARKS_NOT_READ --initial-pose X,Y,THETA "
                 "--out est.lcmlog (sim_host eval victoria finds the start pose from GPS)\n", out->c_str(),
                 opts->geometry.wheelbase, opts->metres_per_tick);
+    std::printf("  replay (EKF-SLAM on the trees, as sim_host eval victoria runs it): estimator_node --replay %s "
+                "--model bicycle --filter ekf-slam --frame-length %.2f --metres-per-tick %g --wheel-count 1 "
+                "--wheel-counter-bits 32 --steer-max 0.8 --max-steer 0.8 --steer-sigma 0.03 --speed-var-per-speed "
+                "0.02 --bicycle-rot-sigma 0 --slam-noise-step 0.025 --predict-hz 40 --ekf-rot-sigma 0.002 "
+                "--landmark-sigma-range 0.5 --landmark-sigma-bearing 0.05 --landmark-max-range 100 --lost-sigma 1000 "
+                "--initial-pose X,Y,THETA --initial-sigma 0.01,0.01 --out est.lcmlog\n",
+                out->c_str(), opts->geometry.wheelbase, opts->metres_per_tick);
   });
 }
 

@@ -1,9 +1,4 @@
 // sim_host eval victoria (data/victoria_eval.hpp).
-// The filter's covariance is a fixed-size Eigen matrix of (3 + 2 M)^2 floats; Eigen refuses fixed sizes above 128 KB
-// (EIGEN_STACK_ALLOCATION_LIMIT: M <= 89 with one robot) since such an object could land on a stack. Here the filter
-// is allocated once on the heap (a board would place it statically) and the update's own temporaries are N x 2, so
-// this host translation unit lifts the check; nothing of the firmware changes.
-#define EIGEN_STACK_ALLOCATION_LIMIT 0
 #include "data/victoria_eval.hpp"
 
 #include <CLI/CLI.hpp>
@@ -16,10 +11,12 @@
 #include <memory>
 #include <stdexcept>
 
+#include <est_lcm/slam_map_t.hpp>
+
 #include "data/formats.hpp"
-#include "est/filter/landmark_measurement.hpp"
 #include "est/motion/bicycle_model.hpp"
-#include "est/slam/cooperative_ekf_slam.hpp"
+#include "hal/lcm/lcm_log_reader.hpp"
+#include "node/estimator_pipeline.hpp"
 #include "node/node.hpp"
 #include "sim/plot.hpp"
 
@@ -27,8 +24,6 @@ namespace sim::data {
 namespace {
 
 namespace fs = std::filesystem;
-
-using Slam = est::CooperativeEkfSlam<est::BicycleMotionModel, 1, kVictoriaLandmarks>;
 
 constexpr double kStepS = 0.025;                    // the noise's reference step: the speed samples' period
 constexpr std::int64_t kMaxEstimateGapNs = 200000000;
@@ -113,34 +108,75 @@ Trajectory dead_reckoning(const VictoriaLog& log, const est::Pose2& x0, const Vi
   return out;
 }
 
-// The bicycle's mean from `x0` through estimator_node's pipeline: the imported log in lockstep, the traction counter
-// and the steering as its inputs, nothing to correct it (the tree detections go to a channel the node does not read:
-// it has no SLAM filter, and its EKF localization would take them for its own landmark map).
-Trajectory node_dead_reckoning(const std::string& log_path, const est::Pose2& x0, const VictoriaEvalOptions& o) {
+// estimator_node on the imported log in lockstep (the path a user's replay takes), the traction counter and the
+// steering as its inputs, from `x0`: dead reckoning (the EKF with no landmark input: the tree detections go to a
+// channel it does not read) or EKF-SLAM on the tree detections (the landmark channel, diameter as signature).
+node::NodeConfig node_config(const std::string& log_path, const std::string& out_name, const est::Pose2& x0,
+                             const VictoriaEvalOptions& o, bool slam) {
   node::NodeConfig c;
   c.replay_path = log_path;
-  c.out_path = (fs::path(o.out_dir) / "dead-reckoning-node.lcmlog").string();
+  c.out_path = (fs::path(o.out_dir) / out_name).string();
   c.quiet = true;
-  c.status_hz = 0.0;
+  c.status_hz = 0.0;  // the status (and EKF-SLAM's map) once, at the end
   c.lcm_wheel_counter_bits = 32;
-  c.channels.landmarks = "EST_LANDMARKS_NOT_READ";
   node::EstimatorSpec& s = c.spec;
   s.model = node::RobotModel::bicycle;
-  s.filter = est::loop::Filter::ekf;
   s.motion.bicycle = bicycle_params(o);
   s.motion.bicycle_control.metres_per_tick = static_cast<float>(kMetresPerTick);
   s.limits.wheels.wheel_count = 1;
   s.limits.steering.max_angle_rad = s.motion.bicycle.steer_max;
   s.initial_pose = x0;
-  node::Node n(c);
-  if (n.run() != 0) throw std::runtime_error("victoria: estimator_node's replay of " + log_path + " failed");
-  if (n.rejects_total() != 0)
-    throw std::runtime_error("victoria: estimator_node's replay rejected " + std::to_string(n.rejects_total()) +
-                             " inputs of " + log_path);
-  Trajectory out;
+  if (!slam) {
+    c.channels.landmarks = "EST_LANDMARKS_NOT_READ";
+    s.filter = est::loop::Filter::ekf;
+    return c;
+  }
+  const VictoriaNoise& n = o.noise;
+  s.filter = est::loop::Filter::ekf_slam;
+  // The noise per 25 ms step (the speed samples' period), scaled by the estimator to each prediction's step; the
+  // heading's per prediction, at the speed samples' rate (40 Hz predictions, and one more at each scan).
+  s.motion.bicycle.speed_var_per_speed = n.speed_var_per_speed;
+  s.motion.bicycle.steer_sigma = n.steer_sigma;
+  s.slam_noise_step_s = static_cast<float>(kStepS);
+  s.timing.predict_period_ns = static_cast<std::int64_t>(kStepS * 1e9);
+  s.ekf_rot_sigma = n.heading_sigma;
+  s.landmark_noise = {n.sigma_range, n.sigma_bearing, 0.0f};
+  s.limits.landmarks.max_range_m = 100.0f;  // the import's reach: the estimator counts what is beyond max_range_m
+  s.slam_max_range_m = static_cast<float>(o.max_range_m);
+  s.slam_gate_accept = o.gate_accept;
+  s.slam_gate_new = o.gate_new;
+  s.slam_confirm = o.confirm_sightings;
+  s.slam_candidate_radius_m = o.candidate_radius_m;
+  s.slam_candidate_frames = static_cast<std::uint32_t>(o.candidate_scans);
+  s.initial_sigma_xy_m = 0.01f;
+  s.initial_sigma_theta_rad = 0.01f;
+  s.lost_sigma_m = 1000.0f;  // the map's frame is the start pose's: the robot's sd grows with the loop, not lost
+  return c;
+}
+
+struct NodeRun {
+  Trajectory laser;
+  est_lcm::slam_map_t map{};  // EKF-SLAM: the last map the node wrote
+  bool have_map = false;
+};
+
+NodeRun run_node(const node::NodeConfig& c, const VictoriaEvalOptions& o) {
+  {  // the node's output log is complete once it is gone
+    node::Node n(c);
+    if (n.run() != 0) throw std::runtime_error("victoria: estimator_node's replay of " + c.replay_path + " failed");
+    if (n.rejects_total() != 0)
+      throw std::runtime_error("victoria: estimator_node's replay rejected " + std::to_string(n.rejects_total()) +
+                               " inputs of " + c.replay_path);
+  }
+  NodeRun out;
   for (const TimedPose& f : read_pose_estimates(c.out_path))
-    out.push_back(laser_of({static_cast<float>(f.x), static_cast<float>(f.y), static_cast<float>(f.theta)}, f.t_ns,
-                           o.geometry));
+    out.laser.push_back(laser_of({static_cast<float>(f.x), static_cast<float>(f.y), static_cast<float>(f.theta)},
+                                 f.t_ns, o.geometry));
+  hal::lcm::read_lcm_log(c.out_path, "sim_host: warning", stderr, [&](const hal::lcm::LcmLogEvent& e) {
+    if (e.channel != c.channels.slam_map) return;
+    if (out.map.decode(e.data.data(), 0, e.size()) < 0) throw std::runtime_error(c.out_path + ": bad slam_map_t");
+    out.have_map = true;
+  });
   return out;
 }
 
@@ -181,159 +217,37 @@ TimedPose start_pose(const VictoriaLog& log, const VictoriaEvalOptions& o) {
           heading};
 }
 
-struct Candidate {
-  int slot = -1;
-  float d2 = 0.0f;
-};
-
-// The correspondence test of table 10.2 (lines 9-16) by maximum likelihood: the Mahalanobis distance of the
-// innovation z - h(mu, m_k) under S_k = H_k P H_k^T + Q for every landmark k not yet used in this scan.
-Candidate most_likely_landmark(const Slam& slam, const Eigen::Vector2f& z, const Eigen::Matrix2f& Q,
-                               const std::vector<bool>& used) {
-  Candidate best;
-  const Slam::Vector& mu = slam.mean();
-  const Slam::Covariance& P = slam.covariance();
-  const Eigen::Vector3f x = mu.segment<3>(0);
-  const Eigen::Matrix3f Paa = P.block<3, 3>(0, 0);
-  const float c = std::cos(x(2) + z(1)), s = std::sin(x(2) + z(1));
-  const Eigen::Vector2f seen(x(0) + z(0) * c, x(1) + z(0) * s);
-  for (int k = 0; k < slam.landmarks(); ++k) {
-    if (used[static_cast<std::size_t>(k)]) continue;
-    const int lo = slam.landmark_offset(k);
-    const Eigen::Vector2f m = mu.segment<2>(lo);
-    if ((m - seen).squaredNorm() > 100.0f) continue;  // 10 m away: no chance under any gate here
-    const auto h = est::range_bearing_measurement<3>(x, m);
-    if (!h.ok) continue;
-    const Eigen::Matrix<float, 3, 2> Pal = P.block<3, 2>(0, lo);
-    const Eigen::Matrix2f Pll = P.block<2, 2>(lo, lo);
-    const Eigen::Matrix2f S = h.H_robot * Paa * h.H_robot.transpose() + h.H_robot * Pal * h.H_landmark.transpose() +
-                              h.H_landmark * Pal.transpose() * h.H_robot.transpose() +
-                              h.H_landmark * Pll * h.H_landmark.transpose() + Q;
-    const Eigen::Vector2f nu(z(0) - h.z(0), std::remainder(z(1) - h.z(1), 2.0f * static_cast<float>(M_PI)));
-    const float det = S(0, 0) * S(1, 1) - S(0, 1) * S(1, 0);
-    if (!(det > 0.0f)) continue;
-    const float d2 = (S(1, 1) * nu(0) * nu(0) - 2.0f * S(0, 1) * nu(0) * nu(1) + S(0, 0) * nu(1) * nu(1)) / det;
-    if (best.slot < 0 || d2 < best.d2) best = {k, d2};
-  }
-  return best;
-}
-
 struct SlamRun {
   VictoriaRun run;
   Trajectory laser;
   std::vector<Eigen::Vector2f> landmarks;
 };
 
-// EKF-SLAM with unknown correspondence (table 10.1 with the association above) over the whole log.
-SlamRun ekf_slam(const VictoriaLog& log, const TimedPose& x0, const VictoriaEvalOptions& o, Progress& progress) {
+// EKF-SLAM with unknown correspondence (est/loop/ekf_slam_estimator.hpp) through estimator_node's replay.
+SlamRun ekf_slam(const std::string& log_path, const est::Pose2& x0, const VictoriaEvalOptions& o) {
   SlamRun out;
   out.run.name = "ekf-slam";
   const double start = wall_seconds();
-  Slam::Params params;
-  params.gate.chi2_2dof = 1.01f * o.gate_accept;  // the association gated already; the same test, rounding aside
-  const VictoriaNoise& n = o.noise;
-  // Per prediction (the filter's parameter is fixed): 40 speed samples a second and one more step per laser scan.
-  params.additive_process_noise(2, 2) = n.heading_sigma * n.heading_sigma;
-  auto slam = std::make_unique<Slam>(params);
-  const est::Pose2 mean{static_cast<float>(x0.x), static_cast<float>(x0.y), static_cast<float>(x0.theta)};
-  const Slam::RobotCovariance cov = Slam::RobotCovariance::Identity() * 1.0e-4f;
-  if (!slam->init(1, &mean, &cov)) throw std::runtime_error("victoria: EKF-SLAM refused its start");
-  est::BicycleParams mp = bicycle_params(o);
-  const est::LandmarkNoise noise{n.sigma_range, n.sigma_bearing, 0.0f};
-  Eigen::Matrix2f Q = Eigen::Matrix2f::Zero();
-  Q(0, 0) = n.sigma_range * n.sigma_range;
-  Q(1, 1) = n.sigma_bearing * n.sigma_bearing;
-  std::int32_t next_id = 0;
-  std::vector<bool> used;
-  // Tentative landmarks: a detection that fits no landmark enters the map only when a later scan sees a detection
-  // within candidate_radius_m of it again (confirm_sightings in all), so that clutter and one-off returns do not
-  // take the map's fixed capacity; candidates unseen for candidate_scans scans are forgotten (counted).
-  struct Tentative {
-    Eigen::Vector2f p;
-    int seen;
-    std::uint64_t last_scan;
-  };
-  std::vector<Tentative> tentative;
-  std::uint64_t scan_index = 0;
-  const auto confirmed = [&](const Eigen::Vector2f& z) {
-    if (o.confirm_sightings <= 1) return true;
-    const est::Pose2 x = slam->robot(0);
-    const Eigen::Vector2f p(x.x + z(0) * std::cos(x.theta + z(1)), x.y + z(0) * std::sin(x.theta + z(1)));
-    auto best = tentative.end();
-    float best_d = o.candidate_radius_m;
-    for (auto it = tentative.begin(); it != tentative.end(); ++it) {
-      const float d = (it->p - p).norm();
-      if (it->last_scan != scan_index && d < best_d) best = it, best_d = d;
-    }
-    if (best == tentative.end()) {
-      tentative.push_back({p, 1, scan_index});
-      ++out.run.tentative;
-      return false;
-    }
-    best->p = (best->p * static_cast<float>(best->seen) + p) / static_cast<float>(best->seen + 1);
-    best->last_scan = scan_index;
-    if (++best->seen < o.confirm_sightings) {
-      ++out.run.tentative;
-      return false;
-    }
-    tentative.erase(best);
-    return true;
-  };
-  ControlReplay(log).run(
-      [&](double v, double steer, double dt) {
-        if (v == 0.0) return;  // standing still: no diffusion
-        // Variances per 25 ms step, scaled to this step: a white noise of the speed and the steering.
-        const float scale = static_cast<float>(kStepS / dt);
-        mp.dt = static_cast<float>(dt);
-        mp.speed_var_per_speed = n.speed_var_per_speed * scale;
-        mp.steer_sigma = n.steer_sigma * std::sqrt(scale);
-        slam->predict_robot(0, {static_cast<float>(v), static_cast<float>(steer)}, mp);
-      },
-      [&](std::int64_t t) {
-        out.laser.push_back(laser_of(slam->robot(0), t, o.geometry));
-        progress.update(static_cast<double>(t) * 1e-9);
-      },
-      [&](const VictoriaScan& scan) {
-        ++scan_index;
-        const std::size_t before = tentative.size();
-        tentative.erase(std::remove_if(tentative.begin(), tentative.end(), [&](const Tentative& t) {
-                          return scan_index - t.last_scan > static_cast<std::uint64_t>(o.candidate_scans);
-                        }), tentative.end());
-        out.run.forgotten += before - tentative.size();
-        used.assign(static_cast<std::size_t>(slam->landmarks()) + scan.trees.size(), false);
-        for (const VictoriaDetection& d : scan.trees) {
-          if (d.range > o.max_range_m) {
-            ++out.run.out_of_range;
-            continue;
-          }
-          const Eigen::Vector2f z(static_cast<float>(d.range), static_cast<float>(d.bearing));
-          const Candidate c = most_likely_landmark(*slam, z, Q, used);
-          if (c.slot >= 0 && c.d2 < o.gate_accept) {
-            used[static_cast<std::size_t>(c.slot)] = true;
-            const est::CorrectionResult r =
-                slam->correct_landmark_range_bearing(0, slam->landmark_id(c.slot), z(0), z(1), noise);
-            (est::accepted(r.status) ? out.run.associated : out.run.discarded)++;
-          } else if (c.slot < 0 || c.d2 > o.gate_new) {
-            if (!confirmed(z)) continue;
-            if (slam->landmarks() >= kVictoriaLandmarks) {
-              ++out.run.refused;
-              continue;
-            }
-            const est::CorrectionResult r = slam->correct_landmark_range_bearing(0, next_id++, z(0), z(1), noise);
-            if (est::accepted(r.status)) {
-              ++out.run.created;
-              used[static_cast<std::size_t>(slam->landmarks() - 1)] = true;
-            } else {
-              ++out.run.refused;
-            }
-          } else {
-            ++out.run.discarded;
-          }
-        }
-      });
-  out.run.landmarks = slam->landmarks();
-  for (int k = 0; k < slam->landmarks(); ++k) out.landmarks.push_back(slam->landmark(k));
+  const NodeRun r = run_node(node_config(log_path, "ekf-slam-node.lcmlog", x0, o, true), o);
   out.run.run_time_s = wall_seconds() - start;
+  if (!r.have_map) throw std::runtime_error("victoria: estimator_node wrote no EKF-SLAM map");
+  out.laser = r.laser;
+  const est_lcm::slam_map_t& m = r.map;
+  for (int k = 0; k < m.num_landmarks; ++k)
+    out.landmarks.emplace_back(m.x_m[static_cast<std::size_t>(k)], m.y_m[static_cast<std::size_t>(k)]);
+  VictoriaRun& v = out.run;
+  v.landmarks = m.num_landmarks;
+  const auto u = [](std::int64_t x) { return static_cast<std::uint64_t>(x); };
+  v.associated = u(m.associated);
+  v.created = u(m.created);
+  v.discarded = u(m.discarded);
+  v.update_refused = u(m.update_refused);
+  v.out_of_range = u(m.beyond_range);
+  v.tentative = u(m.held_tentative);
+  v.forgotten = u(m.tentative_forgotten);
+  v.refused = u(m.map_full) + u(m.insert_refused);
+  v.tentative_full = u(m.tentative_full);
+  v.bad_input = u(m.bad_input);
   return out;
 }
 
@@ -399,6 +313,7 @@ void gps_error(const Trajectory& gps, const Trajectory& estimate, VictoriaRun& r
 VictoriaEval eval_victoria(const std::string& dir, const VictoriaEvalOptions& o) {
   fs::create_directories(o.out_dir);
   VictoriaEval ev;
+  ev.capacity = node::kSlamLandmarks;
   ev.log_path = (fs::path(o.out_dir) / "victoria.lcmlog").string();
   ImportReport report(OnError::skip, o.quiet ? nullptr : stderr);
   VictoriaImportOptions io;
@@ -411,17 +326,19 @@ VictoriaEval eval_victoria(const std::string& dir, const VictoriaEvalOptions& o)
   const est::Pose2 x0{static_cast<float>(ev.start.x), static_cast<float>(ev.start.y),
                       static_cast<float>(ev.start.theta)};
 
+  Progress progress("eval victoria", 2.0, o.quiet);
   VictoriaRun dr_run;
   dr_run.name = "dead-reckoning";
   double t0 = wall_seconds();
-  const Trajectory dr = node_dead_reckoning(ev.log_path, x0, o);
+  const Trajectory dr = run_node(node_config(ev.log_path, "dead-reckoning-node.lcmlog", x0, o, false), o).laser;
   dr_run.run_time_s = wall_seconds() - t0;
   ev.node_vs_direct_rmse_m = trajectory_error(dr, dead_reckoning(log, x0, o), kMaxEstimateGapNs).rmse_xy_m;
   gps_error(log.gps, dr, dr_run);
   ev.runs.push_back(dr_run);
+  progress.update(1.0);
 
-  Progress progress("eval victoria: EKF-SLAM", ev.import.duration_s, o.quiet);
-  SlamRun slam = ekf_slam(log, ev.start, o, progress);
+  SlamRun slam = ekf_slam(ev.log_path, x0, o);
+  progress.update(2.0);
   progress.finish();
   gps_error(log.gps, slam.laser, slam.run);
   ev.runs.push_back(slam.run);
@@ -444,6 +361,9 @@ nlohmann::json to_json(const VictoriaEval& ev) {
                     {"associated", r.associated},
                     {"created", r.created},
                     {"discarded", r.discarded},
+                    {"update_refused", r.update_refused},
+                    {"tentative_full", r.tentative_full},
+                    {"bad_input", r.bad_input},
                     {"beyond_range", r.out_of_range},
                     {"tentative", r.tentative},
                     {"tentative_forgotten", r.forgotten},
@@ -516,9 +436,12 @@ void add_victoria_eval(CLI::App& eval) {
     const auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
     std::printf("  association (gates %.2f / %.2f): %llu associated, %llu new landmarks, %llu discarded between the "
                 "gates, %llu beyond %.0f m, %llu held as tentative (%llu tentative landmarks never confirmed), %llu "
-                "refused (capacity %d)\n", double{opts->gate_accept}, double{opts->gate_new}, u(s.associated),
-                u(s.created), u(s.discarded), u(s.out_of_range), opts->max_range_m, u(s.tentative), u(s.forgotten),
-                u(s.refused), ev.capacity);
+                "updates refused by the filter, %llu refused (capacity %d), %llu tentative table full, %llu bad\n",
+                double{opts->gate_accept}, double{opts->gate_new}, u(s.associated), u(s.created), u(s.discarded),
+                u(s.out_of_range), opts->max_range_m, u(s.tentative), u(s.forgotten), u(s.update_refused),
+                u(s.refused), ev.capacity, u(s.tentative_full), u(s.bad_input));
+    std::printf("  EKF-SLAM: estimator_node --filter ekf-slam, the log replayed in lockstep (its estimates: %s/"
+                "ekf-slam-node.lcmlog)\n", opts->out_dir.c_str());
     std::printf("  dead reckoning: estimator_node's replay of the log, %.3f m RMSE from the bicycle's mean integrated "
                 "directly\n", ev.node_vs_direct_rmse_m);
     std::printf("  results: %s/results.json; plots: %s/map.png, errors.png; log: %s\n", opts->out_dir.c_str(),

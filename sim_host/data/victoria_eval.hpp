@@ -1,14 +1,15 @@
 #pragma once
 // sim_host eval victoria: EKF-SLAM of the car (the bicycle at its front axle, data/victoria.hpp) on the tree
-// detections with unknown correspondence, against GPS:
-//   dead-reckoning   the bicycle's mean over the speed and steering, from the start pose: the imported log replayed
-//                    through estimator_node's pipeline (lockstep, predictions only: the trees are not its input),
-//                    the path a user's replay takes, and checked against the same mean integrated directly
-//   ekf-slam         est::CooperativeEkfSlam with one robot (plain EKF-SLAM, table 10.1) and gated maximum-likelihood
-//                    association (the correspondence test of table 10.2, done by maximum likelihood): each tree
-//                    detection goes to the landmark of smallest Mahalanobis distance if that is under gate_accept,
-//                    makes a new landmark if even the smallest is above gate_new, and is discarded in between; a new
-//                    landmark is tentative until another scan sees it again (confirm_sightings)
+// detections with unknown correspondence, against GPS, both through estimator_node's replay of the imported log
+// (lockstep, in process: the path a user's replay takes):
+//   dead-reckoning   the bicycle's mean over the speed and steering, from the start pose (the EKF with no landmark
+//                    input: the trees are not its input), checked against the same mean integrated directly
+//   ekf-slam         estimator_node --filter ekf-slam (est/loop/ekf_slam_estimator.hpp: plain EKF-SLAM, table 10.1,
+//                    and gated maximum-likelihood association, the correspondence test of table 10.2 done by maximum
+//                    likelihood): each tree detection goes to the landmark of smallest Mahalanobis distance if that
+//                    is under gate_accept, makes a new landmark if even the smallest is above gate_new, and is
+//                    discarded in between; a new landmark is tentative until another scan sees it again
+//                    (confirm_sightings). The map and the counters: the node's last slam_map_t.
 // The start pose is the only alignment: its position puts the laser (the GPS antenna, car.bmp) at the mean of the
 // GPS fixes before the car first moves, its heading turns the dead-reckoned laser's displacement over the first
 // `heading_from_m` metres onto the GPS displacement over the same time. The trajectory compared is the laser's
@@ -22,9 +23,6 @@
 #include "data/victoria.hpp"
 
 namespace sim::data {
-
-// The filter's landmark capacity (the state is 3 + 2 M floats, the covariance its square: 1.4 MB at 300).
-inline constexpr int kVictoriaLandmarks = 300;
 
 // The noise the filter assumes, per 25 ms (the speed samples' period; shorter steps get proportionally less).
 struct VictoriaNoise {
@@ -57,7 +55,10 @@ struct VictoriaRun {
   double gps_median_m = 0.0, gps_p95_m = 0.0;  // of the same errors: robust to the GPS's jumps
   double run_time_s = 0.0;
   int landmarks = 0;
-  std::uint64_t associated = 0, created = 0, discarded = 0, out_of_range = 0, refused = 0;
+  std::uint64_t associated = 0, created = 0, discarded = 0, out_of_range = 0;
+  std::uint64_t refused = 0;         // confirmed new landmarks the filter refused: its capacity, or the insertion
+  std::uint64_t update_refused = 0;  // associated detections whose update the filter refused (its gate, not PD)
+  std::uint64_t tentative_full = 0, bad_input = 0;
   std::uint64_t tentative = 0;  // detections held for a tentative landmark
   std::uint64_t forgotten = 0;  // tentative landmarks never confirmed
 };
@@ -68,7 +69,7 @@ struct VictoriaEval {
   TimedPose start;  // the front axle's start pose
   std::vector<VictoriaRun> runs;
   double node_vs_direct_rmse_m = 0.0;  // dead reckoning: estimator_node's replay against the direct integration
-  int capacity = kVictoriaLandmarks;
+  int capacity = 0;  // the node's EKF-SLAM landmark capacity (node::kSlamLandmarks)
 };
 
 VictoriaEval eval_victoria(const std::string& dir, const VictoriaEvalOptions& options);

@@ -48,11 +48,19 @@ bool parse(const std::string& s, RangeModel& out) {
   return false;
 }
 
-const char* to_string(est::loop::Filter f) { return f == est::loop::Filter::ekf ? "ekf" : "mcl"; }
+const char* to_string(est::loop::Filter f) {
+  switch (f) {
+    case est::loop::Filter::mcl: return "mcl";
+    case est::loop::Filter::ekf: return "ekf";
+    case est::loop::Filter::ekf_slam: return "ekf-slam";
+  }
+  return "unknown";
+}
 
 bool parse(const std::string& s, est::loop::Filter& out) {
   if (s == "mcl") out = est::loop::Filter::mcl;
   else if (s == "ekf") out = est::loop::Filter::ekf;
+  else if (s == "ekf-slam") out = est::loop::Filter::ekf_slam;
   else return false;
   return true;
 }
@@ -106,6 +114,9 @@ std::unique_ptr<MapModels> build_map_models(const EstimatorSpec& s, const Estima
 std::string describe(const EstimatorSpec& s) {
   std::string d = std::string(to_string(s.model)) + " model, ";
   if (s.filter == est::loop::Filter::ekf) return d + "EKF localization on landmark features";
+  if (s.filter == est::loop::Filter::ekf_slam)
+    return d + "EKF-SLAM on landmark features (gated maximum likelihood, up to " + std::to_string(kSlamLandmarks) +
+           " landmarks)";
   const std::string kld = s.mcl.kld ? ", KLD from " + std::to_string(s.mcl.kld_config.n_min) : "";
   return d + "augmented MCL (" + std::to_string(s.particles) + " particles" + kld + "), " +
          to_string(s.range_model) + " range model";

@@ -1,7 +1,7 @@
 #pragma once
 // The estimator every host program runs, composed once (hal/pipeline.hpp: the HAL gate, the loop port, the
 // firmware's filter loop, the estimate sink) around the estimator an EstimatorSpec chooses: one of the six motion
-// models, MCL with a range model or the EKF, at the host's capacities. The map models (distance transform,
+// models, MCL with a range model, the EKF or EKF-SLAM, at the host's capacities. The map models (distance transform,
 // likelihood field and its per-cell grid, free space, the beam model and its heading range table) are built here
 // from the caller's maps. estimator_node and the simulator both use it; a board states its choice statically
 // instead (est/loop/configured_loop.hpp) and composes hal::Pipeline itself. Host only: throws
@@ -13,8 +13,10 @@
 #include "est/filter/augmented_mcl.hpp"
 #include "est/filter/correction_status.hpp"
 #include "est/filter/ekf_localization.hpp"
+#include "est/loop/ekf_slam_estimator.hpp"
 #include "est/loop/input_kinds.hpp"
 #include "est/loop/loop_counters.hpp"
+#include "est/map/landmark_map.hpp"
 #include "hal/estimate.hpp"
 #include "hal/loop_port.hpp"
 #include "hal/sensor_port.hpp"
@@ -28,6 +30,9 @@ inline constexpr std::uint32_t kMaxParticles = 20000;
 inline constexpr std::int32_t kMaxBeams = 1440;
 inline constexpr std::uint32_t kQueueCapacity = 256;
 inline constexpr std::uint32_t kScanSlots = 4;
+// EKF-SLAM's map (the covariance is (3 + 2 M)^2 floats: 2.6 MB at 400) and its tentative landmarks.
+inline constexpr std::int32_t kSlamLandmarks = 400;
+inline constexpr std::int32_t kSlamTentative = 256;
 
 class EstimatorPipeline {
  public:
@@ -54,6 +59,12 @@ class EstimatorPipeline {
   virtual const est::MclCounters* mcl_counters() const = 0;
   virtual const est::CorrectionCounters* ekf_counters() const = 0;
   virtual const est::PredictionCounters* ekf_prediction_counters() const = 0;
+
+  // EKF-SLAM: where each feature went (nullptr for the other filters), and the map.
+  virtual const est::loop::SlamAssociationCounters* slam_counters() const = 0;
+  virtual int slam_landmarks() const = 0;
+  virtual int slam_tentative_landmarks() const = 0;
+  virtual est::Landmark slam_landmark(int k) const = 0;  // position and the mean signature of its sightings
 };
 
 // `sample_clock`: what the gate judges staleness against; `step_clock` times the steps; both outlive the pipeline,

@@ -154,9 +154,11 @@ class PipelineImpl final : public EstimatorPipeline {
  public:
   using Configured = est::loop::ConfiguredLoop<
       est::loop::LoopConfig<Model, F, kMaxParticles, kMaxBeams, kQueueCapacity, kScanSlots, ScanModel,
-                            est::loop::kHostJointSightings>>;  // the EKF with joint association (--joint-association)
+                            est::loop::kHostJointSightings,  // the EKF with joint association (--joint-association)
+                            kSlamLandmarks, kSlamTentative>>;
   using Estimator = typename Configured::Estimator;
   static constexpr bool kMcl = F == est::loop::Filter::mcl;
+  static constexpr bool kSlam = F == est::loop::Filter::ekf_slam;
 
   PipelineImpl(const EstimatorSpec& spec, const EstimatorMaps& maps, hal::Clock& sample_clock, hal::Clock& step_clock,
                hal::EstimateSink& sink)
@@ -210,6 +212,27 @@ class PipelineImpl final : public EstimatorPipeline {
     if constexpr (kMcl) return nullptr;
     else return &estimator_.filter().prediction_counters();
   }
+  const est::loop::SlamAssociationCounters* slam_counters() const override {
+    if constexpr (kSlam) return &estimator_.counters();
+    else return nullptr;
+  }
+  int slam_landmarks() const override {
+    if constexpr (kSlam) return estimator_.landmarks();
+    else return 0;
+  }
+  int slam_tentative_landmarks() const override {
+    if constexpr (kSlam) return estimator_.tentative_landmarks();
+    else return 0;
+  }
+  est::Landmark slam_landmark(int k) const override {
+    if constexpr (kSlam) {
+      const Eigen::Vector2f m = estimator_.landmark(k);
+      return {m.x(), m.y(), estimator_.landmark_signature(k)};
+    } else {
+      (void)k;
+      return {};
+    }
+  }
 
  private:
   static est::ConstParticleSetView empty_set() {
@@ -234,6 +257,22 @@ class PipelineImpl final : public EstimatorPipeline {
         e.sensor_ids = s.landmark_ids;
       }
       return Estimator(e, s.seed, make_scan_model<ScanModel>(s, m), m.free_space);
+    } else if constexpr (kSlam) {
+      (void)maps;
+      e.noise = s.landmark_noise;
+      e.rot_sigma = s.ekf_rot_sigma;
+      e.noise_step_s = s.slam_noise_step_s;
+      e.max_range_m = s.slam_max_range_m;
+      e.gate_accept = s.slam_gate_accept;
+      e.gate_new = s.slam_gate_new;
+      e.search_radius_m = s.slam_search_radius_m;
+      e.confirm_sightings = s.slam_confirm;
+      e.candidate_radius_m = s.slam_candidate_radius_m;
+      e.candidate_scans = s.slam_candidate_frames;
+      e.lost_sigma_m = s.lost_sigma_m;
+      if (!(e.gate_accept > 0.0f) || e.gate_new < e.gate_accept || !(e.max_range_m > 0.0f))
+        throw std::invalid_argument("EKF-SLAM: the gates must be positive, the new-landmark gate at least the other");
+      return Estimator(e);
     } else {
       e.ekf.additive_process_noise(2, 2) = s.ekf_rot_sigma * s.ekf_rot_sigma;
       e.ekf.motion_noise = s.ekf_motion_noise;
@@ -264,6 +303,8 @@ std::unique_ptr<EstimatorPipeline> make_for_model(const EstimatorSpec& s, const 
   using est::loop::Filter;
   if (s.filter == Filter::ekf)
     return std::make_unique<PipelineImpl<Model, Filter::ekf, est::loop::LikelihoodFieldScan>>(s, maps, a, b, sink);
+  if (s.filter == Filter::ekf_slam)
+    return std::make_unique<PipelineImpl<Model, Filter::ekf_slam, est::loop::LikelihoodFieldScan>>(s, maps, a, b, sink);
   switch (s.range_model) {
     case RangeModel::likelihood_field:
       return std::make_unique<PipelineImpl<Model, Filter::mcl, est::loop::LikelihoodFieldScan>>(s, maps, a, b, sink);

@@ -42,7 +42,7 @@ enum class BeamCast : std::uint8_t { table, lanes };
 const char* to_string(BeamCast c);  // "table", "lanes"
 bool parse(const std::string& s, BeamCast& out);
 
-const char* to_string(est::loop::Filter f);  // "mcl", "ekf"
+const char* to_string(est::loop::Filter f);  // "mcl", "ekf", "ekf-slam"
 bool parse(const std::string& s, est::loop::Filter& out);
 
 // Each model's parameters and its control assembler's configuration. Noise defaults are for 100 Hz predictions:
@@ -106,6 +106,17 @@ struct EstimatorSpec {
   float ambiguity_nats = 0.0f;  // EKF, maximum likelihood: refuse a feature whose runner-up is this close (nats)
   bool joint_association = false;  // EKF: features without an id associated per frame by JCBB (est/assoc/jcbb.hpp)
   bool mcl_landmarks = false;  // MCL corrects with landmark sightings on the landmark map, as well as with scans
+
+  // EKF-SLAM (est/loop/ekf_slam_estimator.hpp): the association's gates and the tentative landmarks; the landmark
+  // noise, ekf_rot_sigma and lost_sigma_m above are its too.
+  float slam_gate_accept = 9.21f;         // chi^2 (2 dof): associate under it
+  float slam_gate_new = 30.0f;            // a new landmark above it; discarded in between
+  float slam_max_range_m = 30.0f;         // features farther away are not used
+  float slam_search_radius_m = 10.0f;     // candidate landmarks within this of where the feature puts it
+  std::int32_t slam_confirm = 2;          // sightings in different frames before a new landmark enters the map
+  float slam_candidate_radius_m = 1.0f;   // a tentative landmark's sightings agree within this
+  std::uint32_t slam_candidate_frames = 10;  // a tentative landmark unseen for this many frames is forgotten
+  float slam_noise_step_s = 0.0f;         // > 0: the bicycle's per-step noise is for steps this long, scaled to each
 
   // The loop and the HAL gate.
   est::loop::LoopTiming timing{};

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <functional>
 #include <est_lcm/ground_truth_t.hpp>
+#include <est_lcm/slam_map_t.hpp>
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <optional>
@@ -97,6 +98,10 @@ struct LoadedMaps {
 
 std::unique_ptr<LoadedMaps> load_maps(const NodeConfig& c) {
   auto m = std::make_unique<LoadedMaps>();
+  if (c.spec.filter == est::loop::Filter::ekf_slam) {
+    m->view.description = "none (EKF-SLAM maps the landmarks it sees)";
+    return m;
+  }
   if (c.spec.filter == est::loop::Filter::ekf || c.spec.mcl_landmarks) {
     if (c.landmarks == "office") {
       est::sim::make_office_landmarks(m->landmarks);
@@ -122,7 +127,35 @@ std::unique_ptr<LoadedMaps> load_maps(const NodeConfig& c) {
   return m;
 }
 
-// Every estimate to every output; status_t at a fixed rate of input time.
+// EKF-SLAM's map and association counters as they are now.
+est_lcm::slam_map_t slam_map_message(const EstimatorPipeline& p, TimeNs stamp_ns) {
+  const est::loop::SlamAssociationCounters& c = *p.slam_counters();
+  est_lcm::slam_map_t m{};
+  m.stamp_ns = stamp_ns;
+  m.tentative_landmarks = p.slam_tentative_landmarks();
+  m.frames = c.frames;
+  m.associated = c.associated;
+  m.created = c.created;
+  m.discarded = c.discarded;
+  m.beyond_range = c.beyond_range;
+  m.held_tentative = c.tentative;
+  m.update_refused = c.update_refused;
+  m.insert_refused = c.insert_refused;
+  m.map_full = c.map_full;
+  m.tentative_full = c.tentative_full;
+  m.bad_input = c.bad_input;
+  m.tentative_forgotten = c.tentative_forgotten;
+  m.num_landmarks = p.slam_landmarks();
+  for (int k = 0; k < m.num_landmarks; ++k) {
+    const est::Landmark l = p.slam_landmark(k);
+    m.x_m.push_back(l.x);
+    m.y_m.push_back(l.y);
+    m.signature.push_back(l.signature);
+  }
+  return m;
+}
+
+// Every estimate to every output; status_t at a fixed rate of input time (with EKF-SLAM's map).
 class NodeOutputs final : public hal::EstimateSink {
  public:
   NodeOutputs(const NodeConfig& c, std::function<est_lcm::status_t(const hal::Estimate&)> make_status)
@@ -133,6 +166,7 @@ class NodeOutputs final : public hal::EstimateSink {
   hal::lcm::LcmOutputs* lcm = nullptr;
   hal::can::CanEstimateSink* can = nullptr;
   LogWriter* log = nullptr;
+  const EstimatorPipeline* slam = nullptr;  // EKF-SLAM: its map and counters go out with each status
   CandumpWriter* candump = nullptr;
   hal::can::CanEstimateSink* candump_sink = nullptr;
   const StampAlignment* sender_time = nullptr;  // live, aligned: estimates out in the sender's time
@@ -161,6 +195,11 @@ class NodeOutputs final : public hal::EstimateSink {
     const est_lcm::status_t s = make_status_(e);
     if (lcm != nullptr) lcm->publish_status(s);
     if (log != nullptr) log->write(channels_.status, e.stamp_ns, s);
+    if (slam != nullptr && slam->slam_counters() != nullptr) {
+      const est_lcm::slam_map_t m = slam_map_message(*slam, e.stamp_ns);
+      if (lcm != nullptr) lcm->publish_slam_map(m);
+      if (log != nullptr) log->write(channels_.slam_map, e.stamp_ns, m);
+    }
   }
   void final_status() {
     if (count_ > 0) publish_status(last_);
@@ -237,6 +276,7 @@ struct Node::Impl {
         !c.can_interface.empty() || !c.replay_can_path.empty() ? hal::can::kCanWheelCounterBits
                                                                : c.lcm_wheel_counter_bits);
     pipeline = make_estimator_pipeline(spec, maps->view, sample_clock, step_clock, outputs);
+    outputs.slam = pipeline.get();
     if (!replay && c.lcm_input && c.align_stamps) {
       alignment = std::make_unique<StampAlignment>(monotonic, spec.limits.wheels.timing, c.channels, pipeline->input());
       // With CAN inputs besides, the node's clock is theirs (the kernel's receive time): the outputs stay on it.
@@ -577,6 +617,14 @@ struct Node::Impl {
       std::fprintf(f, "  rejects.%s:%s\n", name, reason_list<hal::Fault>(fc).c_str());
     });
     std::fprintf(f, "  rejects.loop_port:%s\n", reason_list<hal::LoopPortReject>(pipeline->port_rejects()).c_str());
+    if (const est::loop::SlamAssociationCounters* s = pipeline->slam_counters())
+      std::fprintf(f,
+                   "  slam: landmarks=%d tentative_landmarks=%d frames=%u features=%u associated=%u created=%u "
+                   "discarded=%u beyond_range=%u held_tentative=%u update_refused=%u insert_refused=%u map_full=%u "
+                   "tentative_full=%u bad_input=%u tentative_forgotten=%u\n",
+                   pipeline->slam_landmarks(), pipeline->slam_tentative_landmarks(), s->frames, s->features(),
+                   s->associated, s->created, s->discarded, s->beyond_range, s->tentative, s->update_refused,
+                   s->insert_refused, s->map_full, s->tentative_full, s->bad_input, s->tentative_forgotten);
     if (pipeline->inputs().has(est::loop::InputKind::scan)) {
       const auto& beams = pipeline->gate().scan().beams();  // readings refused inside scans the gate passed
       std::fprintf(f, "  beams.scan: nan=%u below_min=%u\n", beams.not_a_number, beams.below_min);

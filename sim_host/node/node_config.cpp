@@ -135,6 +135,7 @@ void add_options(CLI::App& app, NodeConfig& c) {
   app.add_option("--ch-landmarks", c.channels.landmarks, "LCM channel: landmark sightings in (landmark_sighting_t)")->capture_default_str()->group(io);
   app.add_option("--ch-pose", c.channels.pose, "LCM channel: pose estimates out")->capture_default_str()->group(io);
   app.add_option("--ch-status", c.channels.status, "LCM channel: status out")->capture_default_str()->group(io);
+  app.add_option("--ch-slam-map", c.channels.slam_map, "LCM channel: EKF-SLAM's map and association counters out (slam_map_t)")->capture_default_str()->group(io);
   app.add_option("--status-hz", c.status_hz, "status_t rate, in input time (0: only at the end)")
       ->capture_default_str()->check(CLI::NonNegativeNumber)->group(io);
   app.add_option("--duration", c.duration_s, "live: stop after this many seconds (0: run until SIGINT/SIGTERM)")
@@ -251,10 +252,12 @@ void add_options(CLI::App& app, NodeConfig& c) {
   app.add_flag("--global", e.global, "global localization: particles uniform over the free space")->group(map);
 
   const char* ekf = "Filter: EKF localization on landmark sightings (--filter ekf)";
-  add_choice(app, "--filter", e.filter, {"mcl", "ekf"},
+  add_choice(app, "--filter", e.filter, {"mcl", "ekf", "ekf-slam"},
              "mcl: augmented Monte Carlo localization on range scans and the occupancy map (tracking or global); "
              "ekf: EKF localization on landmark sightings (range, bearing, signature; known or unknown "
-             "correspondence) and a landmark map (tracking from --initial-pose; scans are counted as unused); coop-ekf: "
+             "correspondence) and a landmark map (tracking from --initial-pose; scans are counted as unused); "
+             "ekf-slam: EKF-SLAM on landmark sightings without a map (their ids ignored: gated maximum likelihood, "
+             "tentative landmarks; --slam-* options; tracking from --initial-pose, the map's frame); coop-ekf: "
              "one robot's node of a cooperative EKF-SLAM team (its own options: --filter coop-ekf --help)",
              ekf);
   app.add_option("--landmarks", c.landmarks,
@@ -304,6 +307,32 @@ void add_options(CLI::App& app, NodeConfig& c) {
   app.add_option("--ekf-reopen-sigma-xy", e.ekf_reopen_sigma_xy, "EKF: position deviation added when the gate re-opens (m)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
   app.add_option("--ekf-reopen-sigma-theta", e.ekf_reopen_sigma_theta, "EKF: heading deviation added when the gate re-opens (rad)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
   app.add_option("--lost-sigma", e.lost_sigma_m, "EKF: position sigma above which the estimate is flagged degenerate (m)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
+
+  const char* slam = "Filter: EKF-SLAM (--filter ekf-slam; also --landmark-sigma-*, --ekf-rot-sigma, --lost-sigma)";
+  app.add_option("--slam-gate-accept", e.slam_gate_accept,
+                 "a feature is fused with the most likely landmark under this Mahalanobis distance^2")
+      ->capture_default_str()->check(CLI::PositiveNumber)->group(slam);
+  app.add_option("--slam-gate-new", e.slam_gate_new,
+                 "a feature starts a new landmark above this Mahalanobis distance^2 to every landmark (discarded "
+                 "between the gates)")->capture_default_str()->check(CLI::PositiveNumber)->group(slam);
+  app.add_option("--slam-max-range", e.slam_max_range_m, "features farther away are not used (m)")
+      ->capture_default_str()->check(CLI::PositiveNumber)->group(slam);
+  app.add_option("--slam-search-radius", e.slam_search_radius_m,
+                 "landmarks farther than this from where a feature puts it are not candidates (m)")
+      ->capture_default_str()->check(CLI::PositiveNumber)->group(slam);
+  app.add_option("--slam-confirm", e.slam_confirm,
+                 "sightings in different frames before a new landmark enters the map (1: at once)")
+      ->capture_default_str()->check(CLI::Range(1, 100))->group(slam);
+  app.add_option("--slam-candidate-radius", e.slam_candidate_radius_m,
+                 "a tentative landmark's sightings agree within this (m)")
+      ->capture_default_str()->check(CLI::PositiveNumber)->group(slam);
+  app.add_option("--slam-candidate-frames", e.slam_candidate_frames,
+                 "a tentative landmark unseen for this many frames is forgotten")
+      ->capture_default_str()->check(CLI::Range(1u, 1000000u))->group(slam);
+  app.add_option("--slam-noise-step", e.slam_noise_step_s,
+                 "bicycle: its per-step noise (--steer-sigma, --speed-var-per-speed, --bicycle-rot-sigma) is for steps "
+                 "this long, scaled to each prediction as a white noise (s; 0: per prediction as given)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber)->group(slam);
 
   const char* filter = "Filter: augmented MCL (--filter mcl)";
   app.add_option("--particles", e.particles, "particle count (at most 20000)")
@@ -376,8 +405,10 @@ void finish_options(const CLI::App& app, NodeConfig& c) {
     throw CLI::ValidationError("--live-speed", "needs --lcm URL and no --can (CAN frames carry the kernel's real time)");
   if (e.global == pose_given)
     throw CLI::ValidationError("initial belief", "give exactly one of --initial-pose x,y,theta and --global");
-  if (e.filter == est::loop::Filter::ekf && e.global)
+  if (e.filter != est::loop::Filter::mcl && e.global)
     throw CLI::ValidationError("--global", "global localization needs --filter mcl (the EKF tracks from --initial-pose)");
+  if (e.filter == est::loop::Filter::ekf_slam && e.slam_gate_new < e.slam_gate_accept)
+    throw CLI::ValidationError("--slam-gate-new", "at least --slam-gate-accept");
   if (e.range_model == RangeModel::steered && e.model != RobotModel::bicycle)
     throw CLI::ValidationError("--sensor-model", "steered: the handlebar is the bicycle's (--model bicycle)");
   if (e.model == RobotModel::omni &&
@@ -433,7 +464,15 @@ std::string command_line(const EstimatorSpec& e, const std::string& map, const s
   o += " --wheel-count " + std::to_string(e.limits.wheels.wheel_count) + " --max-ticks-per-s " +
        std::to_string(e.limits.wheels.max_ticks_per_s) + " --max-steer " + f(e.limits.steering.max_angle_rad) +
        " --max-speed " + f(e.limits.twist.max_speed_mps) + " --max-turn-rate " + f(e.limits.twist.max_turn_rate_rps);
-  if (e.filter == est::loop::Filter::ekf || e.mcl_landmarks) {
+  if (e.filter == est::loop::Filter::ekf_slam) {
+    o += " --landmark-sigma-range " + f(e.landmark_noise.sigma_range) + " --landmark-sigma-bearing " +
+         f(e.landmark_noise.sigma_bearing) + " --landmark-max-range " + f(e.limits.landmarks.max_range_m) +
+         " --slam-gate-accept " + f(e.slam_gate_accept) + " --slam-gate-new " + f(e.slam_gate_new) +
+         " --slam-max-range " + f(e.slam_max_range_m) + " --slam-search-radius " + f(e.slam_search_radius_m) +
+         " --slam-confirm " + std::to_string(e.slam_confirm) + " --slam-candidate-radius " +
+         f(e.slam_candidate_radius_m) + " --slam-candidate-frames " + std::to_string(e.slam_candidate_frames) +
+         " --slam-noise-step " + f(e.slam_noise_step_s);
+  } else if (e.filter == est::loop::Filter::ekf || e.mcl_landmarks) {
     o += " --landmarks " + landmarks + " --landmark-sigma-range " + f(e.landmark_noise.sigma_range) +
          " --landmark-sigma-bearing " + f(e.landmark_noise.sigma_bearing) + " --landmark-sigma-signature " +
          f(e.landmark_noise.sigma_signature) + " --landmark-max-range " + f(e.limits.landmarks.max_range_m);
@@ -446,7 +485,7 @@ std::string command_line(const EstimatorSpec& e, const std::string& map, const s
   if (e.filter == est::loop::Filter::ekf && e.joint_association) o += " --joint-association";
   if (e.filter == est::loop::Filter::ekf && e.landmark_sigma_range_per_m > 0.0f)
     o += " --landmark-sigma-range-per-m " + f(e.landmark_sigma_range_per_m);
-  if (e.filter == est::loop::Filter::ekf) {
+  if (e.filter == est::loop::Filter::ekf || e.filter == est::loop::Filter::ekf_slam) {
     o += " --ekf-rot-sigma " + f(e.ekf_rot_sigma) + " --lost-sigma " + f(e.lost_sigma_m);
     const est::MotionProportionalNoise& q = e.ekf_motion_noise;
     if (q.heading_per_rad > 0.0f) o += " --ekf-heading-noise-per-rad " + f(q.heading_per_rad);

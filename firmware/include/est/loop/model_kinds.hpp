@@ -5,7 +5,7 @@
 
 namespace est::loop {
 
-enum class Filter : std::uint8_t { mcl, ekf };
+enum class Filter : std::uint8_t { mcl, ekf, ekf_slam };
 enum class MotionModelKind : std::uint8_t { velocity, odometry, bicycle, diff_drive, omni, holonomic };
 enum class RangeModelKind : std::uint8_t { likelihood_field, beam, steered };
 

@@ -17,6 +17,7 @@ struct Channels {
   std::string pose = "EST_POSE";
   std::string particles = "EST_PARTICLES";
   std::string status = "EST_STATUS";
+  std::string slam_map = "EST_SLAM_MAP";  // slam_map_t: EKF-SLAM's landmarks and association counters
   std::string ground_truth = "EST_GROUND_TRUTH";
 };
 

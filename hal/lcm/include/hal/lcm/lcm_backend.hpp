@@ -3,6 +3,7 @@
 // through a team validator into a hal::TeamPort; estimates, health and this robot's team message out to LCM
 // channels. Every sensor is received the same way, by its LcmCodec (hal/sensors/<sensor>/lcm.hpp). Host only.
 #include <cstdint>
+#include <est_lcm/slam_map_t.hpp>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <vector>
@@ -71,6 +72,7 @@ class LcmOutputs final : public EstimateSink {
   void publish_particles(TimeNs stamp_ns, const float* x, const float* y, const float* theta, const float* weight,
                          std::size_t n, std::size_t decimation);
   void publish_ground_truth(const est_lcm::ground_truth_t& truth);
+  void publish_slam_map(const est_lcm::slam_map_t& map);  // EKF-SLAM's landmarks and counters (Channels::slam_map)
   // This robot's message of a step, on the team channel (Channels::team; the sender is message.robot).
   void publish_team(const est::team::TeamMessage& message);
 
