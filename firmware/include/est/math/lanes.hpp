@@ -54,6 +54,16 @@ inline std::uint32_t count(I m) {
 }
 inline bool any(I m) { return count(m) != 0u; }
 
+// The scalar forms under the same names, so one template body serves one particle (float, bool masks: the board's
+// loop, and the host's remainder) and kLanes of them (F, I masks).
+inline float abs(float x) { return fmath::abs(x); }
+inline float select(bool m, float a, float b) { return imath::select(m, a, b); }
+inline std::uint32_t count_false(bool m) { return m ? 0u : 1u; }
+inline std::uint32_t count_false(I m) { return kLanes - count(m); }
+inline float sin_kernel(float x) { return imath::sin_kernel(x); }
+inline void sincos_moderate(float x, float& s, float& c) { imath::sincos_moderate(x, s, c); }
+inline float wrap_angle_near(float a) { return imath::wrap_angle_near(a); }
+
 // ---------------------------------------------------------------------------------------------------------------
 // est::imath (inline_math.hpp), lane-wise.
 
