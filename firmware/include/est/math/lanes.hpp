@@ -56,6 +56,14 @@ inline bool any(I m) { return count(m) != 0u; }
 
 // The scalar forms under the same names, so one template body serves one particle (float, bool masks: the board's
 // loop, and the host's remainder) and kLanes of them (F, I masks).
+template <class T>
+inline T broadcast(float v) {
+  if constexpr (sizeof(T) == sizeof(float)) {
+    return v;
+  } else {
+    return splat(v);
+  }
+}
 inline float abs(float x) { return fmath::abs(x); }
 inline float select(bool m, float a, float b) { return imath::select(m, a, b); }
 inline std::uint32_t count_false(bool m) { return m ? 0u : 1u; }

@@ -64,9 +64,10 @@ inline void move_on_arc(float& x, float& y, float& theta, float turn, float chor
   }
 }
 
-// The first passes' common case for one particle (T = float, the board's loop and the host's remainder) or for
-// lanes::kLanes particles at once (T = lanes::F, the host): the same operations in the same order either way, so the
-// same bits per particle. Moves the particles it can, marks their noise `a` with NaN, and returns how many it left.
+// The first passes' common case for one particle (T = float) or for lanes::kLanes particles at once (T = lanes::F):
+// the same operations in the same order either way, so the same bits per particle (the board's loops in
+// sample_motion_batch are these operations written out for one particle). Moves the particles it can, marks their
+// noise `a` with NaN, and returns how many it left.
 struct BicycleFast {
   float a_cmd, steer_sigma, v_cmd, v_sigma, rot_sigma, dt, half_dt_over_l, a_fast;
 };
@@ -91,7 +92,7 @@ inline std::uint32_t bicycle_fast(const BicycleFast& k, T& x, T& y, T& theta, T&
   x = lanes::select(ok, x + chord * cs, x);
   y = lanes::select(ok, y + chord * sn, y);
   theta = lanes::select(ok, t, th);
-  na = lanes::select(ok, T{} + __builtin_nanf(""), na);
+  na = lanes::select(ok, lanes::broadcast<T>(__builtin_nanf("")), na);
   return lanes::count_false(ok);
 }
 
@@ -117,17 +118,16 @@ inline std::uint32_t diff_drive_fast(const DiffDriveFast& k, T& x, T& y, T& thet
   x = lanes::select(ok, x + chord * cs, x);
   y = lanes::select(ok, y + chord * sn, y);
   theta = lanes::select(ok, t, th);
-  na = lanes::select(ok, T{} + __builtin_nanf(""), na);
+  na = lanes::select(ok, lanes::broadcast<T>(__builtin_nanf("")), na);
   return lanes::count_false(ok);
 }
 
-// Runs `fast` over particles [0, n): kLanes at a time on a host, one at a time on a board (and for the remainder).
+// The host's first pass: `fast` over particles [0, n), kLanes at a time, the remainder one at a time.
 template <class Step>
 inline std::uint32_t first_pass(const Step& fast, float* __restrict x, float* __restrict y, float* __restrict theta,
                                 float* __restrict na, const float* __restrict nb, const float* __restrict nc,
                                 std::uint32_t n) {
   std::uint32_t pending = 0, i = 0;
-#if !defined(__arm__)
   for (; i + lanes::kLanes <= n; i += lanes::kLanes) {
     lanes::F vx = lanes::load(x + i), vy = lanes::load(y + i), vt = lanes::load(theta + i), va = lanes::load(na + i);
     pending += fast(vx, vy, vt, va, lanes::load(nb + i), lanes::load(nc + i));
@@ -136,8 +136,14 @@ inline std::uint32_t first_pass(const Step& fast, float* __restrict x, float* __
     lanes::store(theta + i, vt);
     lanes::store(na + i, va);
   }
-#endif
-  for (; i < n; ++i) pending += fast(x[i], y[i], theta[i], na[i], nb[i], nc[i]);
+  for (; i < n; ++i) {
+    float xi = x[i], yi = y[i], ti = theta[i], ai = na[i];
+    pending += fast(xi, yi, ti, ai, nb[i], nc[i]);
+    x[i] = xi;
+    y[i] = yi;
+    theta[i] = ti;
+    na[i] = ai;
+  }
   return pending;
 }
 
@@ -167,6 +173,34 @@ inline void sample_motion_batch(const BicycleMotionModel&, const BicycleControl&
   float* __restrict na = noise.a;
   const float* __restrict nb = noise.b;
   const float* __restrict nc = noise.c;
+#if defined(__arm__)
+  // The board: bicycle_fast's operations written out for one particle (the same bits; as a template instance it
+  // costs the M4F one instruction more per particle).
+  const float done = __builtin_nanf("");
+  const float steer_sigma = p.steer_sigma, rot_sigma = p.final_rot_sigma, dt = p.dt, v_cmd = u.v;
+  std::uint32_t pending = 0;  // particles the first pass left to the second
+  for (std::uint32_t i = 0; i < n; ++i) {
+    // Inside the stops the steering is a_raw itself (no fold), and sin a is the kernel alone (one polynomial, no
+    // quadrant logic) where |a| <= pi/4, every steering a car's stops allow in practice; the rest: the second pass.
+    const float a = a_cmd + steer_sigma * na[i];
+    const float v = v_cmd + v_sigma * nb[i];
+    const float gamma = rot_sigma * nc[i];
+    const float th = pt[i];
+    const float sa = imath::sin_kernel(a);
+    const float h = v * sa * half_dt_over_l;
+    const bool ok = (fmath::abs(a) <= a_fast) & (fmath::abs(h) < arc::kSeriesBelow) & (fmath::abs(th) <= kPi);
+    const float h2 = h * h;
+    const float chord = v * dt * (1.0f - h2 * (1.0f / 6.0f) + h2 * h2 * (1.0f / 120.0f));  // arc::sinc's series
+    float sn = 0.0f, cs = 0.0f;
+    imath::sincos_moderate(imath::select(ok, th + a + h, 0.0f), sn, cs);
+    const float t = imath::wrap_angle_near((th + 2.0f * h) + gamma);  // |.| < 3 pi (a_fast): one wrap suffices
+    px[i] = imath::select(ok, px[i] + chord * cs, px[i]);
+    py[i] = imath::select(ok, py[i] + chord * sn, py[i]);
+    pt[i] = imath::select(ok, t, th);
+    na[i] = imath::select(ok, done, na[i]);
+    pending += ok ? 0u : 1u;
+  }
+#else
   const motion_batch_detail::BicycleFast k{a_cmd, p.steer_sigma, u.v, v_sigma, p.final_rot_sigma, p.dt,
                                            half_dt_over_l, a_fast};
   std::uint32_t pending = motion_batch_detail::first_pass(  // particles the first pass left to the second
@@ -174,6 +208,7 @@ inline void sample_motion_batch(const BicycleMotionModel&, const BicycleControl&
         return motion_batch_detail::bicycle_fast(k, xi, yi, ti, ai, bi, ci);
       },
       px, py, pt, na, nb, nc, n);
+#endif
   for (std::uint32_t i = 0; i < n && pending > 0u; ++i) {  // none left: no second pass
     if (na[i] != na[i]) continue;  // moved by the first pass
     --pending;
@@ -205,12 +240,37 @@ inline void sample_motion_batch(const DiffDriveMotionModel&, const DiffDriveCont
   float* __restrict na = noise.a;
   const float* __restrict nb = noise.b;
   const float* __restrict nc = noise.c;
+#if defined(__arm__)
+  // The board: diff_drive_fast's operations written out for one particle, as for the bicycle.
+  const float done = __builtin_nanf("");
+  std::uint32_t pending = 0;  // particles the first pass left to the second
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const float left = d.left + sl * na[i];
+    const float right = d.right + sr * nb[i];
+    const float gamma = p.final_rot_sigma * nc[i];
+    const float th = pt[i];
+    const float s = 0.5f * (left + right);
+    const float h = (right - left) * half_over_b;
+    const bool ok = (fmath::abs(h) < arc::kSeriesBelow) & (fmath::abs(th) <= kPi) & (fmath::abs(gamma) <= kPi);
+    const float h2 = h * h;
+    const float chord = s * (1.0f - h2 * (1.0f / 6.0f) + h2 * h2 * (1.0f / 120.0f));  // arc::sinc's series
+    float sn = 0.0f, cs = 0.0f;
+    imath::sincos_moderate(imath::select(ok, th + h, 0.0f), sn, cs);
+    const float t = imath::wrap_angle_near((th + 2.0f * h) + gamma);  // |.| < 3 pi (a_fast): one wrap suffices
+    px[i] = imath::select(ok, px[i] + chord * cs, px[i]);
+    py[i] = imath::select(ok, py[i] + chord * sn, py[i]);
+    pt[i] = imath::select(ok, t, th);
+    na[i] = imath::select(ok, done, na[i]);
+    pending += ok ? 0u : 1u;
+  }
+#else
   const motion_batch_detail::DiffDriveFast k{d.left, d.right, sl, sr, p.final_rot_sigma, half_over_b};
   std::uint32_t pending = motion_batch_detail::first_pass(  // particles the first pass left to the second
       [&k](auto& xi, auto& yi, auto& ti, auto& ai, auto bi, auto ci) {
         return motion_batch_detail::diff_drive_fast(k, xi, yi, ti, ai, bi, ci);
       },
       px, py, pt, na, nb, nc, n);
+#endif
   for (std::uint32_t i = 0; i < n && pending > 0u; ++i) {  // none left: no second pass
     if (na[i] != na[i]) continue;
     --pending;
