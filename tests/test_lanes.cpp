@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "est/math/fmath.hpp"
+#include "est/math/inline_exp.hpp"
 #include "est/math/inline_math.hpp"
 #include "est/math/lanes.hpp"
 
@@ -121,4 +122,27 @@ TEST_CASE("lanes::count and select follow the masks", "[lanes]") {
   CHECK_FALSE(est::lanes::any(x > 100.0f));
   const F s = est::lanes::select(m, x, est::lanes::load(b));
   for (std::uint32_t j = 0; j < kLanes; ++j) CHECK(s[j] == (j >= 3u ? static_cast<float>(j) : -1.0f));
+}
+
+TEST_CASE("lanes::exp gives imath::exp's bits on (-85, 0] and flags every other lane", "[lanes]") {
+  std::vector<float> xs;
+  for (std::uint32_t b = 0; b < 0x42aa0000u; b += 37u) xs.push_back(-from_bits(b));  // -0 .. -85
+  for (const float v : {1e-30f, 0.5f, -85.0f, -85.00001f, -100.0f, __builtin_inff(), -__builtin_inff(),
+                        __builtin_nanf("")})
+    xs.push_back(v);
+  while (xs.size() % kLanes != 0u) xs.push_back(-1.0f);
+  std::uint64_t bad = 0, flagged = 0;
+  for (std::size_t i = 0; i < xs.size(); i += kLanes) {
+    F e;
+    const I ok = est::lanes::exp(est::lanes::load(&xs[i]), e);
+    for (std::uint32_t j = 0; j < kLanes; ++j) {
+      const float x = xs[i + j];
+      const bool inside = x > -85.0f && x <= 0.0f;
+      flagged += ok[j] == 0 ? 1u : 0u;
+      bad += (ok[j] != 0) != inside || (inside && bits(e[j]) != bits(est::imath::exp(x))) ? 1u : 0u;
+    }
+  }
+  INFO(xs.size() << " inputs");
+  CHECK(bad == 0u);
+  CHECK(flagged == 8u);  // 1e-30, 0.5, -85 (outside: the range is open there), -85.00001, -100, +-inf, NaN
 }

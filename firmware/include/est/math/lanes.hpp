@@ -12,10 +12,12 @@
 //   reported in the mask for the caller to take fmath::sincos).
 // - sin_kernel, sincos_moderate, wrap_angle_near: est::imath's bits (est/math/inline_math.hpp) where those are
 //   defined.
+// - exp(x): imath::exp's (and so fmath::exp's) bits for x in (-85, 0] (the lanes outside reported in the mask).
 #include <cstdint>
 #include <cstring>
 
 #include "est/math/fmath.hpp"
+#include "est/math/inline_exp.hpp"
 #include "est/math/inline_math.hpp"
 
 namespace est::lanes {
@@ -111,6 +113,29 @@ inline F wrap_angle_near(F a) {
   // Comparisons give -1 where true: (a <= -pi) - (a > pi) is the scalar's (a > pi) - (a <= -pi).
   const F k = __builtin_convertvector((a <= -kPi) - (a > kPi), F);
   return (a - k * kTwoPiHi) - k * kTwoPiLo;
+}
+
+// imath::exp (inline_exp.hpp) on its inline range x in (-85, 0], lane-wise: fmath::exp's bits there. The lanes
+// outside are reported in the mask for the caller to take imath::exp.
+inline I exp(F x, F& e) {
+  constexpr float kLn2Hi = 0x1.62e4p-1f;
+  constexpr float kLn2Lo = 0x1.7f7d1cp-20f;
+  constexpr float kInvLn2 = 0x1.715476p+0f;
+  constexpr float kP1 = 0xaaaaa8.0p-26f;
+  constexpr float kP2 = -0xb55215.0p-32f;
+  const U ax = bits(x) & 0x7fffffffu;
+  const I reduce = ax > 0x3eb17218u;
+  const I k = reduce ? __builtin_convertvector(kInvLn2 * x + -0.5f, I) : I{};
+  const F t = __builtin_convertvector(k, F);
+  const F hi = x - t * kLn2Hi;
+  const F lo = t * kLn2Lo;
+  const F r = hi - lo;
+  const F r2 = r * r;
+  const F c = r - r2 * (kP1 + r2 * kP2);
+  const F y = 1.0f - ((lo - (r * c) / (2.0f - c)) - hi);
+  const F scale = from_bits(__builtin_convertvector(127 + k, U) << 23);
+  e = (ax < 0x39000000u) ? 1.0f + x : y * scale;
+  return (x > -85.0f) & (x <= 0.0f);
 }
 
 // ---------------------------------------------------------------------------------------------------------------
