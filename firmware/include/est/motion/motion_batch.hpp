@@ -1,10 +1,10 @@
 #pragma once
 // Motion sampling for a whole particle set at once: x_i ~ p(x | u, x_i) for every particle, as Model::sample does
 // one particle at a time, but with the noise drawn in bulk (fill_standard_normals: the inverse CDF by a table, one
-// uniform per value) and the arc evaluated with inline trigonometry (est/math/inline_math.hpp). The same
-// distribution as the model's own sampler, NOT the same bits (different normal draws; kernels within 2 ULP of
-// fmath): the particle filter's batched prediction (AugmentedMcl::predict_batch) uses it;
-// tests/test_motion_batch.cpp compares the two samplers' distributions (two-sample KS).
+// uniform per value) and the arc evaluated with inline trigonometry (est/math/inline_math.hpp; on a host four
+// particles at a time, est/math/lanes.hpp, the same bits). The same distribution as the model's own sampler, NOT
+// the same bits (different normal draws; kernels within 2 ULP of fmath): the particle filter's batched prediction
+// (AugmentedMcl::predict_batch) uses it; tests/test_motion_batch.cpp compares the two samplers' distributions (two-sample KS).
 //
 // Models without a batched form fall back to their own sampler, one particle at a time (the generic overload).
 // Noise buffers: three arrays of n floats (MCL passes its idle scratch set). Non-finite particles and angles beyond
