@@ -4,7 +4,8 @@
 // uniform per value) and the arc evaluated with inline trigonometry (est/math/inline_math.hpp; on a host four
 // particles at a time, est/math/lanes.hpp, the same bits). The same distribution as the model's own sampler, NOT
 // the same bits (different normal draws; kernels within 2 ULP of fmath): the particle filter's batched prediction
-// (AugmentedMcl::predict_batch) uses it; tests/test_motion_batch.cpp compares the two samplers' distributions (two-sample KS).
+// (AugmentedMcl::predict_batch) uses it; tests/test_motion_batch.cpp compares the two samplers' distributions
+// (two-sample KS).
 //
 // Models without a batched form fall back to their own sampler, one particle at a time (the generic overload).
 // Noise buffers: three arrays of n floats (MCL passes its idle scratch set). Non-finite particles and angles beyond
