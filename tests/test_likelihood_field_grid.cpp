@@ -64,6 +64,8 @@ TEST_CASE("the batched likelihood field equals the scalar model bit for bit, par
   th[12] = -0.0f;
   x[12] = 7.0f;
   y[12] = 7.3f;
+  th[13] = 250.0f;  // beyond the vectorized sincos's range: the scalar one's lane
+  th[14] = -1e30f;
   // A rotated mount, and an unrotated one (where the batch reuses the robot's sincos for the sensor).
   for (const est::Pose2 mount : {est::Pose2{0.1f, 0.02f, 0.05f}, est::Pose2{0.1f, 0.02f, 0.0f}}) {
     est::likelihood_field_range_finder_model_batch(z, x.data(), y.data(), th.data(), n, mount, g_table.view(),

@@ -1,10 +1,12 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
 #include "est/motion/motion_batch.hpp"
+#include "est/random/samplers.hpp"
 
 // The batched samplers against the models' own samplers: same start pose, many draws each, and the two-sample
 // Kolmogorov-Smirnov test on each coordinate of the result at significance 0.001 (c(0.001) = 1.949).
@@ -107,4 +109,63 @@ TEST_CASE("a model without a batched form falls back to its own sampler, bit for
     CHECK(x[i] == q.x);
     CHECK(th[i] == q.theta);
   }
+}
+
+namespace {
+
+std::uint32_t bits(float v) {
+  std::uint32_t b = 0;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+
+// The first pass over n particles as the host runs it (lanes::kLanes at a time, first_pass) and one particle at a
+// time (the board's loop): every output's bits and the count left to the second pass must agree.
+template <class Step>
+void check_lanes_match_scalar(const Step& step) {
+  const std::uint32_t n = 4003;  // not a multiple of the lanes: the remainder takes the scalar form
+  std::vector<float> x(n), y(n), th(n), a(n), b(n), c(n);
+  est::Rng rng(21u);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    x[i] = rng.uniform(-20.0f, 20.0f);
+    y[i] = rng.uniform(-20.0f, 20.0f);
+    th[i] = rng.uniform(-3.5f, 3.5f);  // some beyond pi: left to the second pass
+    a[i] = 4.0f * est::sample_normal(rng, 1.0f);  // wide noise: some steering and arcs beyond the fast case
+    b[i] = 4.0f * est::sample_normal(rng, 1.0f);
+    c[i] = 40.0f * est::sample_normal(rng, 1.0f);
+  }
+  x[5] = std::numeric_limits<float>::quiet_NaN();
+  th[6] = std::numeric_limits<float>::infinity();
+  th[7] = -0.0f;
+  th[8] = est::kPi;
+  th[9] = -est::kPi;
+  std::vector<float> sx = x, sy = y, st = th, sa = a;
+  const std::uint32_t pending = est::motion_batch_detail::first_pass(step, x.data(), y.data(), th.data(), a.data(),
+                                                                     b.data(), c.data(), n);
+  std::uint32_t scalar_pending = 0;
+  for (std::uint32_t i = 0; i < n; ++i) scalar_pending += step(sx[i], sy[i], st[i], sa[i], b[i], c[i]);
+  std::uint32_t differ = 0;
+  for (std::uint32_t i = 0; i < n; ++i)
+    differ += (bits(x[i]) != bits(sx[i]) || bits(y[i]) != bits(sy[i]) || bits(th[i]) != bits(st[i]) ||
+               bits(a[i]) != bits(sa[i]))
+                  ? 1u
+                  : 0u;
+  CHECK(differ == 0u);
+  CHECK(pending == scalar_pending);
+  CHECK(pending > 100u);     // both cases are taken
+  CHECK(pending < n - 100u);
+}
+
+}  // namespace
+
+TEST_CASE("the first pass gives the same bits four particles at a time as one at a time", "[motion_batch]") {
+  const est::motion_batch_detail::BicycleFast bike{0.1f, 0.04f, 0.8f, 0.3f, 0.01f, 0.1f, 0.5f * 0.1f / 0.6f,
+                                                   0.7853981f};
+  check_lanes_match_scalar([&bike](auto& xi, auto& yi, auto& ti, auto& ai, auto bi, auto ci) {
+    return est::motion_batch_detail::bicycle_fast(bike, xi, yi, ti, ai, bi, ci);
+  });
+  const est::motion_batch_detail::DiffDriveFast dd{0.05f, 0.06f, 0.01f, 0.01f, 0.01f, 0.5f / 0.3f};
+  check_lanes_match_scalar([&dd](auto& xi, auto& yi, auto& ti, auto& ai, auto bi, auto ci) {
+    return est::motion_batch_detail::diff_drive_fast(dd, xi, yi, ti, ai, bi, ci);
+  });
 }

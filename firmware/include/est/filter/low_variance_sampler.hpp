@@ -6,9 +6,51 @@
 #include "est/filter/particle_set.hpp"
 #include "est/math/fmath.hpp"
 #include "est/math/inline_exp.hpp"
+#include "est/math/lanes.hpp"
 #include "est/random/xoshiro128.hpp"
 
 namespace est {
+
+#if !defined(__arm__)
+namespace low_variance_sampler_detail {
+
+// The host's comb: the same pointers, sums and draws as the loop below (the same bits), with the weights' exps taken
+// first, lanes::kLanes at a time (lanes::exp: imath::exp's bits), into out.log_w, which is free until the end (the
+// weights 1/m are written after the comb). Needs in.count <= out.capacity.
+inline std::uint32_t comb_host(ConstParticleSetView in, ParticleSetView out, std::uint32_t m, float r, float inv_m,
+                               float log_uniform) {
+  float* __restrict e = out.log_w;
+  std::uint32_t j = 0;
+  for (; j + lanes::kLanes <= in.count; j += lanes::kLanes) {
+    lanes::F v;
+    const lanes::I ok = lanes::exp(lanes::load(in.log_w + j), v);
+    lanes::store(e + j, v);
+    if (lanes::count(ok) == lanes::kLanes) continue;
+    for (std::uint32_t l = 0; l < lanes::kLanes; ++l)
+      if (ok[l] == 0) e[j + l] = imath::exp(in.log_w[j + l]);
+  }
+  for (; j < in.count; ++j) e[j] = imath::exp(in.log_w[j]);
+  const float* __restrict ix = in.x;
+  const float* __restrict iy = in.y;
+  const float* __restrict it = in.theta;
+  float* __restrict ox = out.x;
+  float* __restrict oy = out.y;
+  float* __restrict ot = out.theta;
+  std::uint32_t i = 0;
+  float c = e[0];
+  for (std::uint32_t k = 0; k < m; ++k) {
+    const float u = r + static_cast<float>(k) * inv_m;
+    while (u > c && i + 1u < in.count) c += e[++i];
+    ox[k] = ix[i];
+    oy[k] = iy[i];
+    ot[k] = it[i];
+  }
+  for (std::uint32_t k = 0; k < m; ++k) e[k] = log_uniform;
+  return m;
+}
+
+}  // namespace low_variance_sampler_detail
+#endif
 
 // Draws m particles from `in` (normalized log weights) into `out` (capacity >= m), each with weight 1/m.
 // Returns the number written (m clamped to out.capacity).
@@ -18,6 +60,9 @@ inline std::uint32_t low_variance_sampler(ConstParticleSetView in, ParticleSetVi
   const float inv_m = 1.0f / static_cast<float>(m);
   const float r = rng.uniform() * inv_m;
   const float log_uniform = -fmath::log(static_cast<float>(m));
+#if !defined(__arm__)
+  if (in.count <= out.capacity) return low_variance_sampler_detail::comb_host(in, out, m, r, inv_m, log_uniform);
+#endif
   std::uint32_t i = 0;
   float c = fmath::exp(in.log_w[0]);
   for (std::uint32_t k = 0; k < m; ++k) {

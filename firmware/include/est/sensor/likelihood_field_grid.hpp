@@ -16,6 +16,7 @@
 #include "est/geometry/pose2.hpp"
 #include "est/map/occupancy_grid.hpp"
 #include "est/math/fmath.hpp"
+#include "est/math/lanes.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
 #include "est/sensor/range_scan.hpp"
 
@@ -181,6 +182,58 @@ inline LikelihoodFieldFrame likelihood_field_frame(float x, float y, float th, c
   return {lf_cell_coordinate(fx, g.origin_x(), inv), lf_cell_coordinate(fy, g.origin_y(), inv), cs, ss};
 }
 
+#if !defined(__arm__)
+// likelihood_field_frame for particles [0, m) into the frame arrays, kLanes at a time (lanes::sincos: fmath's bits),
+// the few lanes beyond its range (and non-finite particles) through likelihood_field_frame itself: the same bits.
+inline void likelihood_field_frames(const float* x, const float* y, const float* th, std::uint32_t m,
+                                    const Pose2& mount, const LikelihoodFieldGrid& g, float* fpx, float* fpy,
+                                    float* fc, float* fs) {
+  using lanes::F;
+  using lanes::I;
+  constexpr float kLimit = 0x1p24f;
+  const float inv = g.inv_resolution(), ox = g.origin_x(), oy = g.origin_y();
+  const auto cell = [&](F v, float origin) {  // lf_cell_coordinate
+    const F c = (v - origin) * inv + 1.0f;
+    const F lo = c > -kLimit ? c : lanes::splat(-kLimit);
+    return lo < kLimit ? lo : lanes::splat(kLimit);
+  };
+  const bool rotated = mount.theta != 0.0f;
+  const F zero = {};
+  std::uint32_t i = 0;
+  for (; i + lanes::kLanes <= m; i += lanes::kLanes) {
+    const F vx = lanes::load(x + i), vy = lanes::load(y + i), vt = lanes::load(th + i);
+    F s, c;
+    I ok = lanes::sincos(vt, s, c);
+    F ss = s + 0.0f, cs = c;
+    if (rotated) ok &= lanes::sincos(vt + mount.theta, ss, cs);
+    const F fx = (vx + c * mount.x) - s * mount.y;
+    const F fy = (vy + s * mount.x) + c * mount.y;
+    const I finite = ((lanes::bits(vx) & 0x7fffffffu) < 0x7f800000u) &
+                     ((lanes::bits(vy) & 0x7fffffffu) < 0x7f800000u) & ((lanes::bits(vt) & 0x7fffffffu) < 0x7f800000u);
+    lanes::store(fpx + i, finite ? cell(fx, ox) : zero);
+    lanes::store(fpy + i, finite ? cell(fy, oy) : zero);
+    lanes::store(fc + i, finite ? cs : zero);
+    lanes::store(fs + i, finite ? ss : zero);
+    if (lanes::count(ok) == lanes::kLanes) continue;
+    for (std::uint32_t j = 0; j < lanes::kLanes; ++j) {
+      if (ok[j] != 0) continue;
+      const LikelihoodFieldFrame f = likelihood_field_frame(x[i + j], y[i + j], th[i + j], mount, g);
+      fpx[i + j] = f.px;
+      fpy[i + j] = f.py;
+      fc[i + j] = f.c;
+      fs[i + j] = f.s;
+    }
+  }
+  for (; i < m; ++i) {
+    const LikelihoodFieldFrame f = likelihood_field_frame(x[i], y[i], th[i], mount, g);
+    fpx[i] = f.px;
+    fpy[i] = f.py;
+    fc[i] = f.c;
+    fs[i] = f.s;
+  }
+}
+#endif
+
 // The end points of the next up to kLikelihoodFieldChunk beams that are not max readings, from beam k on; k moves
 // past them. Returns how many.
 inline std::int32_t likelihood_field_offsets(const ScanBeams& z, std::int32_t& k, float inv, float* off) {
@@ -240,15 +293,8 @@ inline void likelihood_field_range_finder_model_batch(const ScanBeams& z, const 
   std::uint32_t acc[kLikelihoodFieldBlock];
   for (std::uint32_t b0 = 0; b0 < n; b0 += kLikelihoodFieldBlock) {
     const std::uint32_t m = n - b0 < kLikelihoodFieldBlock ? n - b0 : kLikelihoodFieldBlock;
-    for (std::uint32_t i = 0; i < m; ++i) {
-      const detail::LikelihoodFieldFrame f =
-          detail::likelihood_field_frame(x[b0 + i], y[b0 + i], theta[b0 + i], mount, g);
-      fpx[i] = f.px;
-      fpy[i] = f.py;
-      fc[i] = f.c;
-      fs[i] = f.s;
-      acc[i] = 0u;
-    }
+    detail::likelihood_field_frames(x + b0, y + b0, theta + b0, m, mount, g, fpx, fpy, fc, fs);
+    for (std::uint32_t i = 0; i < m; ++i) acc[i] = 0u;
     std::int32_t k = 0;
     do {  // bounded: every pass takes up to kLikelihoodFieldChunk beams of z.count
       const std::int32_t mk = detail::likelihood_field_offsets(z, k, inv, off);
