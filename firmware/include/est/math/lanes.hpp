@@ -201,7 +201,7 @@ inline I sincos(F x, F& s, F& c) {
   // Quadrant 0: (sk, ck), 1: (ck, -sk), 2: (-sk, -ck), 3: (-ck, sk); then the sign of x (not on the small path).
   F sa, ca;
   by_quadrant(q, sk, ck, sa, ca);
-  s = (small == 0) & (x < 0.0f) ? -sa : sa;
+  s = ((small == 0) & (x < 0.0f)) ? -sa : sa;
   c = ca;
   return ax < 0x43480000u;  // |x| < 200 (finite)
 }
