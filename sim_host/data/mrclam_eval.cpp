@@ -107,9 +107,11 @@ Trajectory run_node(const MrclamEval& ev, const MrclamRobotLog& r, const std::st
       s.landmark_sigma_range_per_m = o.noise.range_sigma_per_m;
     }
   }
-  node::Node n(c);
-  if (n.run() != 0) throw std::runtime_error(method + ": estimator_node's replay failed for robot " +
-                                             std::to_string(r.subject));
+  {  // the node closes its output log when it goes: read it after, not while its last events are still buffered
+    node::Node n(c);
+    if (n.run() != 0) throw std::runtime_error(method + ": estimator_node's replay failed for robot " +
+                                               std::to_string(r.subject));
+  }
   return read_pose_estimates(c.out_path);
 }
 
