@@ -1,22 +1,25 @@
 // A team's live view on the project's page: Debian's headless Chromium (playwright-core) loads http://127.0.0.1:PORT/
-// while robot 0's team node replays a 5 s coop-slam-team run at 2x (--view-wait: it starts once the page
-// subscribed); the page's own state (window.estView) must hold every robot's truth and estimate, close together, and
-// the mapped landmarks; a screenshot of the end is kept.
+// while a 5 s coop-slam-team run (4 robots, 12 landmarks, seed 3) plays at 2x, either (--mode replay) its log replayed
+// by robot 0's team node or (--mode sim) the run itself, `sim_host run coop-slam-team --view PORT` (--view-wait: each
+// starts once the page subscribed); the page's own state (window.estView) must hold every robot's truth and estimate,
+// close together, and the mapped landmarks; a screenshot of the end is kept.
 import { readFileSync } from "node:fs";
 import { chromium } from "playwright-core";
 import { args, fail, freePort, startNode } from "./view_run.mjs";
 
 const a = args();
-const sidecar = JSON.parse(readFileSync(a.run + "/run.lcmlog.json"));
-const metrics = JSON.parse(readFileSync(a.run + "/metrics.json"));
+const sim = a.mode === "sim";
 const browser = await chromium.launch({
   executablePath: "/usr/bin/chromium",
   args: ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
          "--disable-component-update", "--disable-sync"],
 });
 const port = await freePort();
-const node = await startNode(a.node, [...sidecar.estimator_node_replays[0].trim().split(/\s+/), "--view", String(port),
-                                      "--view-wait", "--replay-speed", "2"]);
+const node = sim
+  ? await startNode(a.sim, ["run", "coop-slam-team", "--duration", "5", "--seed", "3", "--out", a.run, "--no-plots",
+                            "--quiet", "--view", String(port), "--view-wait", "--view-speed", "2"])
+  : await startNode(a.node, [...JSON.parse(readFileSync(a.run + "/run.lcmlog.json")).estimator_node_replays[0].trim()
+                               .split(/\s+/), "--view", String(port), "--view-wait", "--replay-speed", "2"]);
 const page = await browser.newPage({ viewport: { width: 1000, height: 780 } });
 const pageErrors = [];
 page.on("pageerror", (e) => pageErrors.push(e.message));
@@ -36,11 +39,12 @@ while (Date.now() - start < 30000) {
   await page.waitForTimeout(200);
 }
 await page.waitForTimeout(300);  // the last frame drawn
-const shot = `${a.work}/view-team-page.png`;
+const shot = `${a.work}/view-team-page${sim ? "-run" : ""}.png`;
 await page.screenshot({ path: shot });
 await browser.close();
 const { code, output } = await node.exited;
-if (code !== 0) fail(`estimator_node exited with ${code}:\n${output}`);
+if (code !== 0) fail(`${sim ? "sim_host" : "estimator_node"} exited with ${code}:\n${output}`);
+const metrics = JSON.parse(readFileSync(a.run + "/metrics.json"));  // the run's (written at its end in --mode sim)
 
 if (pageErrors.length) fail("page errors: " + pageErrors.join("; "));
 if (!s.closed) fail("the run did not end within 30 s");
@@ -54,7 +58,7 @@ for (const r of s.robots) {
 }
 if (s.landmarks !== metrics.shared.landmarks_mapped) fail(`${s.landmarks} landmarks drawn of ${metrics.shared.landmarks_mapped}`);
 if (!s.status || !Array.isArray(s.status.bits)) fail("no status drawn");
-console.log(`team page: ${s.messages} messages, ${s.channels} channels; ` +
+console.log(`team page (${sim ? "sim_host run" : "replay"}): ${s.messages} messages, ${s.channels} channels; ` +
             s.robots.map((r) => `robot ${r.robot} (${r.color}) ${r.estimates} estimates, ${r.errorM?.toFixed(3)} m at the end`).join("; ") +
             `; ${s.landmarks} landmarks; screenshot ${shot}`);
 if (process.exitCode) console.log("0 passed, 1 failed"); else console.log("1 passed, 0 failed");
