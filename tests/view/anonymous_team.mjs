@@ -4,43 +4,14 @@
 // their schemas, that each robot's estimates track its truth with the run's own error (the metrics' RMSE: the filter's
 // estimates, not the truth echoed or another robot's), and that the known landmarks appear.
 import { readFileSync } from "node:fs";
-import foxglove from "@foxglove/ws-protocol";
-import WebSocket from "ws";
-import { args, fail, freePort, startNode } from "./view_run.mjs";
+import { args, fail, freePort, startNode, watch } from "./view_run.mjs";
 
-const { FoxgloveClient } = foxglove;
 const a = args();
 const port = await freePort();
 const node = await startNode(a.sim, ["run", "diffdrive-landmarks", "--duration", "20", "--seed", "3", "--out", a.run,
                                      "--no-plots", "--quiet", "--view", String(port), "--view-wait", "--view-speed",
                                      "10"]);
-const channels = new Map();  // channel id -> channel
-const topicOf = new Map();   // subscription id -> topic
-const got = {};              // topic -> its messages
-const client = new FoxgloveClient({
-  ws: new WebSocket(`ws://127.0.0.1:${port}`, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]),
-});
-const closed = new Promise((resolve) => client.on("close", resolve));
-client.on("error", (e) => fail("client error: " + e.message));
-client.on("advertise", (list) => {
-  for (const ch of list) {
-    channels.set(ch.id, ch);
-    topicOf.set(client.subscribe(ch.id), ch.topic);
-  }
-});
-const decoder = new TextDecoder();
-client.on("message", ({ subscriptionId, data }) => {
-  const topic = topicOf.get(subscriptionId);
-  (got[topic] ??= []).push(JSON.parse(decoder.decode(new Uint8Array(data.buffer, data.byteOffset, data.byteLength))));
-});
-const timeout = setTimeout(() => {
-  fail("no end of the run in 60 s");
-  node.proc.kill("SIGTERM");
-  client.close();
-}, 60000);
-await closed;  // the server closes the connection when the run is over
-const { code, output } = await node.exited;
-clearTimeout(timeout);
+const { channels, got, code, output } = await watch(port, node);
 if (code !== 0) fail(`sim_host exited with ${code}:\n${output}`);
 
 const metrics = JSON.parse(readFileSync(a.run + "/metrics.json"));

@@ -4,11 +4,8 @@
 // subscribed); --mode live: a live node on LCM (--url) and lcm-logplayer playing the log into it at 1x; --mode sim:
 // `sim_host run bicycle-rangefinder --view` (--sim: sim_host), its 20 s at 4x once we subscribed.
 import { spawn } from "node:child_process";
-import foxglove from "@foxglove/ws-protocol";
-import WebSocket from "ws";
-import { args, fail, freePort, replayOptions, startNode } from "./view_run.mjs";
+import { args, fail, freePort, replayOptions, startNode, watch } from "./view_run.mjs";
 
-const { FoxgloveClient } = foxglove;
 const a = args();
 const { log, rest } = replayOptions(a.options);
 const live = a.mode === "live", sim = a.mode === "sim";
@@ -27,46 +24,21 @@ const expected = {
   "/particles": "foxglove.PosesInFrame",
   "/status": "est.Status",
 };
-const channels = new Map();  // channel id -> channel
-const topicOf = new Map();   // subscription id -> topic
-const got = Object.fromEntries(Object.keys(expected).map((t) => [t, []]));
-let serverName = null;
-
-const client = new FoxgloveClient({
-  ws: new WebSocket(`ws://127.0.0.1:${port}`, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]),
-});
-const closed = new Promise((resolve) => client.on("close", resolve));
-client.on("error", (e) => fail("client error: " + e.message));
-client.on("serverInfo", (info) => (serverName = info.name));
 let player = null;
-client.on("advertise", (list) => {
-  for (const ch of list) {
-    channels.set(ch.id, ch);
-    topicOf.set(client.subscribe(ch.id), ch.topic);
-  }
-  if (!live || player) return;
-  // Live: play the log once we are subscribed; when it is over, stop the node (which closes our connection).
-  player = spawn("lcm-logplayer", ["--lcm-url=" + a.url, log], { stdio: "ignore" });
-  player.on("exit", (code) => {
-    if (code !== 0) fail("lcm-logplayer exited with " + code);
-    setTimeout(() => node.proc.kill("SIGINT"), 300);  // the last inputs through the reorder window
-  });
+const watched = await watch(port, node, {
+  stamped: true,
+  onAdvertise: () => {
+    if (!live || player) return;
+    // Live: play the log once we are subscribed; when it is over, stop the node (which closes our connection).
+    player = spawn("lcm-logplayer", ["--lcm-url=" + a.url, log], { stdio: "ignore" });
+    player.on("exit", (code) => {
+      if (code !== 0) fail("lcm-logplayer exited with " + code);
+      setTimeout(() => node.proc.kill("SIGINT"), 300);  // the last inputs through the reorder window
+    });
+  },
 });
-const decoder = new TextDecoder();
-client.on("message", ({ subscriptionId, timestamp, data }) => {
-  const topic = topicOf.get(subscriptionId);
-  const msg = JSON.parse(decoder.decode(new Uint8Array(data.buffer, data.byteOffset, data.byteLength)));
-  got[topic]?.push({ t: Number(timestamp) * 1e-9, msg });
-});
-
-const timeout = setTimeout(() => {
-  fail("no end of the run in 60 s");
-  node.proc.kill("SIGTERM");
-  client.close();
-}, 60000);
-await closed;  // the server closes the connection when the replay is over
-const { code, output } = await node.exited;
-clearTimeout(timeout);
+const { channels, serverName, code, output } = watched;
+const got = Object.fromEntries(Object.keys(expected).map((t) => [t, watched.got[t] ?? []]));
 if (code !== 0) fail(`${sim ? "sim_host" : "estimator_node"} exited with ${code}:\n${output}`);
 
 // The channels and their schemas.

@@ -5,11 +5,8 @@
 // advertised channels and their schemas, that each robot's estimate messages track its own truth messages, and that
 // every mapped landmark appears.
 import { readFileSync } from "node:fs";
-import foxglove from "@foxglove/ws-protocol";
-import WebSocket from "ws";
-import { args, fail, freePort, startNode } from "./view_run.mjs";
+import { args, fail, freePort, startNode, watch } from "./view_run.mjs";
 
-const { FoxgloveClient } = foxglove;
 const a = args();
 const sim = a.mode === "sim";
 const port = await freePort();
@@ -19,37 +16,7 @@ const node = sim
   : await startNode(a.node, [...JSON.parse(readFileSync(a.run + "/run.lcmlog.json")).estimator_node_replays[0].trim()
                                .split(/\s+/), "--view", String(port), "--view-wait", "--replay-speed", "4"]);
 
-const channels = new Map();  // channel id -> channel
-const topicOf = new Map();   // subscription id -> topic
-const got = {};  // topic -> its messages
-let serverName = null;
-
-const client = new FoxgloveClient({
-  ws: new WebSocket(`ws://127.0.0.1:${port}`, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]),
-});
-const closed = new Promise((resolve) => client.on("close", resolve));
-client.on("error", (e) => fail("client error: " + e.message));
-client.on("serverInfo", (info) => (serverName = info.name));
-client.on("advertise", (list) => {
-  for (const ch of list) {
-    channels.set(ch.id, ch);
-    topicOf.set(client.subscribe(ch.id), ch.topic);
-  }
-});
-const decoder = new TextDecoder();
-client.on("message", ({ subscriptionId, data }) => {
-  const topic = topicOf.get(subscriptionId);
-  (got[topic] ??= []).push(JSON.parse(decoder.decode(new Uint8Array(data.buffer, data.byteOffset, data.byteLength))));
-});
-
-const timeout = setTimeout(() => {
-  fail(`no end of the ${sim ? "run" : "replay"} in 60 s`);
-  node.proc.kill("SIGTERM");
-  client.close();
-}, 60000);
-await closed;  // the server closes the connection when the replay is over
-const { code, output } = await node.exited;
-clearTimeout(timeout);
+const { channels, got, serverName, code, output } = await watch(port, node);
 if (code !== 0) fail(`${sim ? "sim_host" : "estimator_node"} exited with ${code}:\n${output}`);
 
 // The run's metrics give the team and its map; its team_estimates.csv (a header and one line per step) the steps.

@@ -50,3 +50,44 @@ export function fail(message) {
   console.error("FAIL: " + message);
   process.exitCode = 1;
 }
+
+// A Foxglove client (@foxglove/ws-protocol) on ws://127.0.0.1:PORT that subscribes to every channel advertised and
+// keeps each topic's decoded JSON messages (with `stamped`, as { t: the message's log time in s, msg }) until the
+// server closes the connection at the end of the run, then waits for `node` (startNode's) to exit; fails after
+// `seconds`. `onAdvertise(list)` runs after each advertisement's subscriptions.
+export async function watch(port, node, { seconds = 60, stamped = false, onAdvertise = () => {} } = {}) {
+  const { default: foxglove } = await import("@foxglove/ws-protocol");
+  const { default: WebSocket } = await import("ws");
+  const { FoxgloveClient } = foxglove;
+  const channels = new Map();  // channel id -> channel
+  const topicOf = new Map();   // subscription id -> topic
+  const got = {};              // topic -> its messages
+  let serverName = null;
+  const client = new FoxgloveClient({
+    ws: new WebSocket(`ws://127.0.0.1:${port}`, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]),
+  });
+  const closed = new Promise((resolve) => client.on("close", resolve));
+  client.on("error", (e) => fail("client error: " + e.message));
+  client.on("serverInfo", (info) => (serverName = info.name));
+  client.on("advertise", (list) => {
+    for (const ch of list) {
+      channels.set(ch.id, ch);
+      topicOf.set(client.subscribe(ch.id), ch.topic);
+    }
+    onAdvertise(list);
+  });
+  const decoder = new TextDecoder();
+  client.on("message", ({ subscriptionId, timestamp, data }) => {
+    const msg = JSON.parse(decoder.decode(new Uint8Array(data.buffer, data.byteOffset, data.byteLength)));
+    (got[topicOf.get(subscriptionId)] ??= []).push(stamped ? { t: Number(timestamp) * 1e-9, msg } : msg);
+  });
+  const timeout = setTimeout(() => {
+    fail(`no end of the run in ${seconds} s`);
+    node.proc.kill("SIGTERM");
+    client.close();
+  }, seconds * 1000);
+  await closed;  // the server closes the connection when the run or replay is over
+  const { code, output } = await node.exited;
+  clearTimeout(timeout);
+  return { channels, got, serverName, code, output };
+}
