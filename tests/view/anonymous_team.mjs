@@ -4,7 +4,7 @@
 // their schemas, that each robot's estimates track its truth with the run's own error (the metrics' RMSE: the filter's
 // estimates, not the truth echoed or another robot's), and that the known landmarks appear.
 import { readFileSync } from "node:fs";
-import { args, fail, freePort, startNode, watch } from "./view_run.mjs";
+import { args, fail, freePort, startNode, teamChannels, watch } from "./view_run.mjs";
 
 const a = args();
 const port = await freePort();
@@ -16,12 +16,7 @@ if (code !== 0) fail(`sim_host exited with ${code}:\n${output}`);
 
 const metrics = JSON.parse(readFileSync(a.run + "/metrics.json"));
 const robots = metrics.robots.length, steps = 200;  // 20 s at the team's 10 Hz
-const expected = { "/landmarks": "foxglove.SceneUpdate", "/status": "est.Status" };
-for (let r = 0; r < robots; ++r) {
-  expected[`/robot${r}/truth`] = "foxglove.PoseInFrame";
-  expected[`/robot${r}/estimate`] = "foxglove.PoseInFrame";
-  expected[`/robot${r}/estimate/ellipse`] = "foxglove.SceneUpdate";
-}
+const expected = teamChannels(robots);
 for (const t of Object.keys(expected)) got[t] ??= [];
 for (const [topic, schemaName] of Object.entries(expected)) {
   const ch = [...channels.values()].find((c) => c.topic === topic);

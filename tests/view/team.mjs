@@ -5,7 +5,7 @@
 // advertised channels and their schemas, that each robot's estimate messages track its own truth messages, and that
 // every mapped landmark appears.
 import { readFileSync } from "node:fs";
-import { args, fail, freePort, startNode, watch } from "./view_run.mjs";
+import { args, fail, freePort, startNode, teamChannels, watch } from "./view_run.mjs";
 
 const a = args();
 const sim = a.mode === "sim";
@@ -23,12 +23,7 @@ if (code !== 0) fail(`${sim ? "sim_host" : "estimator_node"} exited with ${code}
 const metrics = JSON.parse(readFileSync(a.run + "/metrics.json"));
 const robots = metrics.robots, landmarks = metrics.shared.landmarks_mapped;
 const steps = readFileSync(a.run + "/team_estimates.csv", "utf8").trim().split("\n").length - 1;
-const expected = { "/landmarks": "foxglove.SceneUpdate", "/status": "est.Status" };
-for (let r = 0; r < robots; ++r) {
-  expected[`/robot${r}/truth`] = "foxglove.PoseInFrame";
-  expected[`/robot${r}/estimate`] = "foxglove.PoseInFrame";
-  expected[`/robot${r}/estimate/ellipse`] = "foxglove.SceneUpdate";
-}
+const expected = teamChannels(robots);
 for (const t of Object.keys(expected)) got[t] ??= [];
 
 // The channels and their schemas.

@@ -91,3 +91,15 @@ export async function watch(port, node, { seconds = 60, stamped = false, onAdver
   clearTimeout(timeout);
   return { channels, got, serverName, code, output };
 }
+
+// The channels a team's view advertises, topic -> schema name: per robot its truth, estimate and ellipse, then the
+// landmarks and the status.
+export function teamChannels(robots) {
+  const expected = { "/landmarks": "foxglove.SceneUpdate", "/status": "est.Status" };
+  for (let r = 0; r < robots; ++r) {
+    expected[`/robot${r}/truth`] = "foxglove.PoseInFrame";
+    expected[`/robot${r}/estimate`] = "foxglove.PoseInFrame";
+    expected[`/robot${r}/estimate/ellipse`] = "foxglove.SceneUpdate";
+  }
+  return expected;
+}
