@@ -107,6 +107,12 @@ TEST_CASE("a malformed scenario is refused with its file, line, column and reaso
       {"[world]\nmap = \"lab.yaml\"\n[robot]\nmodel = \"velocity\"\ncontrols = [[0, 0.5, 0]]\n", "f.toml:5:12: ",
        "robot.start_pose is required with a control script in a map"},
       {"[robot]\nstart_pose = [1, 2]\n", "f.toml:2:14: ", "robot.start_pose: expected 3 numbers, got 2"},
+      // A control script's path with a newline or a carriage return (found by fuzz_scenario): refused at the key,
+      // on one line, not as a file that cannot be read under a name broken across lines.
+      {"[robot]\ncontrols = \"ulvslip_fqnge_pl\\nmor\"\n", "f.toml:2:12: ",
+       "robot.controls: the path has a control character (byte 0x0a at 17)"},
+      {"[robot]\ncontrols = \"u_f1\\range_mtor\"\n", "f.toml:2:12: ",
+       "robot.controls: the path has a control character (byte 0x0d at 5)"},
   };
   for (const Case& c : cases) {
     INFO(c.text);

@@ -4,6 +4,7 @@
 #include <toml++/toml.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -339,6 +340,17 @@ std::vector<est::sim::TimedCommand> read_controls(Section& robot, RobotKind mode
   if (n == nullptr) return {};
   if (const auto* path = n->as_string()) {
     if (path->get().empty()) robot.fail(*n, "robot.controls: an empty path (leave the key out for none)");
+    // Refused here, at the key's place: a path with a control character (a newline, say) is a typo, and a message
+    // naming it as FILE:LINE:COLUMN would be broken across lines.
+    for (std::size_t i = 0; i < path->get().size(); ++i) {
+      const auto c = static_cast<unsigned char>(path->get()[i]);
+      if (c < 0x20 || c == 0x7f) {
+        char hex[8];
+        std::snprintf(hex, sizeof hex, "0x%02x", static_cast<unsigned>(c));
+        robot.fail(*n, "robot.controls: the path has a control character (byte " + std::string(hex) + " at " +
+                           std::to_string(i + 1) + ")");
+      }
+    }
     return read_controls_csv(beside(path->get()), model);
   }
   const auto* a = n->as_array();
