@@ -113,6 +113,9 @@ TEST_CASE("a malformed scenario is refused with its file, line, column and reaso
        "robot.controls: the path has a control character (byte 0x0a at 17)"},
       {"[robot]\ncontrols = \"u_f1\\range_mtor\"\n", "f.toml:2:12: ",
        "robot.controls: the path has a control character (byte 0x0d at 5)"},
+      {"[world]\nmap = \"lab\\t.yaml\"\n", "f.toml:2:7: ", "world.map: the path has a control character (byte 0x09 at 4)"},
+      {"[world]\nlandmarks = \"marks.csv\\n\"\n", "f.toml:2:13: ",
+       "world.landmarks: the path has a control character (byte 0x0a at 10)"},
   };
   for (const Case& c : cases) {
     INFO(c.text);

@@ -169,6 +169,24 @@ class Section {
     return s->get();
   }
 
+  // A file's path: a string without control characters (a newline in a path is a typo, and the messages naming
+  // the file as FILE:LINE:COLUMN would be broken across lines).
+  std::string path(const char* key) {
+    const std::string v = text(key, "");
+    if (const toml::node* n = get(key)) check_path(*n, key, v);
+    return v;
+  }
+  void check_path(const toml::node& n, const char* key, const std::string& v) const {
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const auto c = static_cast<unsigned char>(v[i]);
+      if (c < 0x20 || c == 0x7f) {
+        char hex[8];
+        std::snprintf(hex, sizeof hex, "0x%02x", static_cast<unsigned>(c));
+        fail(n, name(key) + ": the path has a control character (byte " + hex + " at " + std::to_string(i + 1) + ")");
+      }
+    }
+  }
+
   std::string choice(const char* key, const std::string& def, std::initializer_list<const char*> options) {
     const std::string v = text(key, def);
     std::string all;
@@ -340,17 +358,7 @@ std::vector<est::sim::TimedCommand> read_controls(Section& robot, RobotKind mode
   if (n == nullptr) return {};
   if (const auto* path = n->as_string()) {
     if (path->get().empty()) robot.fail(*n, "robot.controls: an empty path (leave the key out for none)");
-    // Refused here, at the key's place: a path with a control character (a newline, say) is a typo, and a message
-    // naming it as FILE:LINE:COLUMN would be broken across lines.
-    for (std::size_t i = 0; i < path->get().size(); ++i) {
-      const auto c = static_cast<unsigned char>(path->get()[i]);
-      if (c < 0x20 || c == 0x7f) {
-        char hex[8];
-        std::snprintf(hex, sizeof hex, "0x%02x", static_cast<unsigned>(c));
-        robot.fail(*n, "robot.controls: the path has a control character (byte " + std::string(hex) + " at " +
-                           std::to_string(i + 1) + ")");
-      }
-    }
+    robot.check_path(*n, "controls", path->get());
     return read_controls_csv(beside(path->get()), model);
   }
   const auto* a = n->as_array();
@@ -545,8 +553,8 @@ void read_simulate(Section& top, ScenarioFile& out) {
     const std::filesystem::path dir = std::filesystem::path(top.source()).parent_path();
     return p.empty() || std::filesystem::path(p).is_absolute() || dir.empty() ? p : (dir / p).string();
   };
-  s.map_yaml = beside(world.text("map", ""));
-  s.landmarks_csv = beside(world.text("landmarks", ""));
+  s.map_yaml = beside(world.path("map"));
+  s.landmarks_csv = beside(world.path("landmarks"));
   s.route = read_route(world);
   world.done();
 
