@@ -161,3 +161,24 @@ TEST_CASE("a tricycle record whose time or pose a log cannot carry is skipped by
   REQUIRE(back.size() == 2u);
   CHECK(back[1].tracker.x == Approx(0.01));
 }
+
+TEST_CASE("a tricycle header's encoder range beyond 2^31 counts is not taken, and the published range stands in",
+          "[tricycle]") {
+  // Synthetic: the importer's fuzzer found 2.2e45 converted to int64 (undefined behaviour) from this header line.
+  const std::string dir = temp_dir("encoder_range");
+  const std::string file = dir + "/dataset.txt";
+  std::ofstream(file) << "#kinematic_model: traction_drive_wheel\n"
+                         "#parameters: [ Ksteer Ktraction axis_length steer_offset ]\n"
+                         "#parameter_values: 0.1 0.0106141 1.4 0\n"
+                         "#joints_max_enc: [ steering traction_wheel ]\n"
+                         "#joints_max_enc_values: 8192 2222222222222222222222222222222222222222225000\n"
+                         "time: 1700000000.0 ticks: 300 4000 model_pose: 0 0 0 tracker_pose: 0 0 0\n"
+                         "time: 1700000000.1 ticks: 301 4100 model_pose: 0 0 0 tracker_pose: 0.01 0 0\n";
+  ImportReport skip(OnError::skip, nullptr);
+  const TricycleImport r = import_tricycle(file, dir + "/out.lcmlog", {}, skip);
+  CHECK(r.records == 2u);
+  CHECK_FALSE(r.header.complete);
+  CHECK(r.header.steer_max == 8192);
+  CHECK(r.header.traction_max == 5000);  // the published value, not the line's
+  CHECK(r.header.guess.axis_length == Approx(1.4));
+}

@@ -73,7 +73,9 @@ struct HeaderParser {
       ++found;
     } else if (std::string_view r3 = after("#joints_max_enc_values:"); !r3.empty()) {
       const std::vector<double> v = numbers(r3);
-      if (v.size() != 2 || !(v[0] >= 2.0) || !(v[1] >= 1.0)) return;
+      // Counts of an encoder's range: at least 2 (steering) and 1 (traction), at most 2^31 (int32 registers).
+      constexpr double kMaxCounts = 2147483648.0;
+      if (v.size() != 2 || !(v[0] >= 2.0 && v[0] <= kMaxCounts) || !(v[1] >= 1.0 && v[1] <= kMaxCounts)) return;
       h.steer_max = static_cast<std::int64_t>(v[0]);
       h.traction_max = static_cast<std::int64_t>(v[1]);
       ++found;
