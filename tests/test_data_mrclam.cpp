@@ -135,6 +135,45 @@ TEST_CASE("a malformed MRCLAM line is skipped and counted, or refuses the import
   }
 }
 
+TEST_CASE("MRCLAM rows whose values a log cannot carry are skipped by reason, and the rest imported", "[mrclam]") {
+  // Synthetic, raw layout (no dataset needed): the values the importer once converted or stamped unchecked (a
+  // barcode of 1e20 to int, a landmark 1e9 m away sizing the arena map, times of 1e30 s, floats beyond their range).
+  const std::string dir = temp_dir("ranges") + "/MRCLAM_Dataset9";
+  fs::create_directories(dir);
+  std::ofstream(dir + "/Barcodes.dat") << "# Subject #    Barcode #\n1 5\n6 14\n7 1e20\n";
+  std::ofstream(dir + "/Landmark_Groundtruth.dat") << "# Subject # x y sx sy\n6 1.0 2.0 0 0\n8 1e9 0 0 0\n";
+  std::ofstream(dir + "/Robot1_Odometry.dat") << "# Time [s] v [m/s] w [rad/s]\n"
+                                                 "1248272262.0 0.1 0.0\n1e30 0.1 0.0\n1248272262.1 1e39 0.0\n"
+                                                 "1248272262.2 0.1 0.01\n";
+  std::ofstream(dir + "/Robot1_Measurement.dat") << "# Time [s] Subject # range [m] bearing [rad]\n"
+                                                    "1248272262.05 14 2.2 0.1\n1248272262.06 14 1e39 0.1\n"
+                                                    "1248272262.07 1e20 2.0 0.1\n1248272262.08 14 2.0 -1e39\n";
+  std::ofstream(dir + "/Robot1_Groundtruth.dat") << "# Time [s] x [m] y [m] orientation [rad]\n"
+                                                    "1248272262.0 0 0 0\n1248272262.1 1e39 0 0\n";
+  MrclamImportOptions o;
+  o.robots = {1};
+  ImportReport skip(OnError::skip, nullptr);
+  const std::string out = temp_dir("ranges_out") + "/r.lcmlog";
+  const MrclamImport r = import_mrclam(dir, out, o, skip);
+  CHECK(skip.skipped().at("subject and barcode must be whole numbers in 1 .. 1000 and 0 .. 1000") == 1);
+  CHECK(skip.skipped().at("landmark beyond 100 m of the origin") == 1);
+  CHECK(skip.skipped().at("time outside 0 .. 9e9 s") == 1);
+  CHECK(skip.skipped().at("speed beyond 100 m/s or 100 rad/s") == 1);
+  CHECK(skip.skipped().at("range not in (0, 1000] m") == 1);
+  CHECK(skip.skipped().at("barcode must be a whole number in 0 .. 1000") == 1);
+  CHECK(skip.skipped().at("bearing beyond 100 rad") == 1);
+  CHECK(skip.skipped().at("pose beyond 100 m of the origin or a heading beyond 100 rad") == 1);
+  CHECK(skip.skipped_total() == 8);
+  REQUIRE(r.landmarks.size() == 1u);
+  const std::vector<MrclamRobotLog> back = read_mrclam_log(out, {1});
+  REQUIRE(back.size() == 1u);
+  CHECK(back[0].twists.size() == 2u);
+  CHECK(back[0].truth.size() == 1u);
+  REQUIRE(back[0].landmarks.size() == 1u);
+  CHECK(back[0].landmarks[0].range == Approx(2.2));
+  CHECK(static_cast<double>(back[0].twists.back().t_ns) == Approx(2e8).margin(1e3));  // from the earliest time
+}
+
 TEST_CASE("MRCLAM Dataset 1, first 300 s: EKF localization within 0.13 m of Vicon, the team better than each alone",
           "[mrclam][eval]") {
   const std::string dir = test_support::dataset_or_skip("utias-mrclam/sampled-50hz/MRCLAM_Dataset1");

@@ -33,6 +33,40 @@ constexpr double kSampledStepS = 0.02;  // sampled-50hz/: row k of ground truth 
 
 using Rows = NumericRows;
 
+// What a row may hold, so that the log can carry it (nanosecond stamps, floats) and the arena map stays small; the
+// datasets stay far inside (times 1.25e9 s raw, 0 .. 2500 s sampled; the arena within 10 m; speeds under 1 m/s).
+constexpr double kMaxTime = 9e9;         // s: nanosecond stamps fit an int64 to 9.2e9 s (the year 2262)
+constexpr double kMaxPosition = 100.0;   // m from the origin, landmarks and ground truth
+constexpr double kMaxSpeed = 100.0;      // m/s and rad/s, odometry
+constexpr double kMaxRange = 1000.0;     // m, measurements
+constexpr double kMaxAngle = 100.0;      // rad, headings and bearings (any turn count a float keeps to the degree)
+constexpr double kMaxSubject = 1000.0;   // subjects 1 .. 1000, barcodes 0 .. 1000
+
+bool whole_in(double v, double lo, double hi) { return v >= lo && v <= hi && v == std::floor(v); }
+
+// Drops the rows `why` names a reason for (a bad line: skipped and counted, or the import refused).
+template <class Why>
+void keep_rows(Rows& rows, ImportReport& report, const Why& why) {
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < rows.values.size(); ++k) {
+    if (const char* reason = why(rows.values[k])) {
+      report.bad_line(rows.path, rows.lines[k], reason);
+      continue;
+    }
+    if (kept != k) {  // (a vector moved onto itself is left empty)
+      rows.values[kept] = std::move(rows.values[k]);
+      rows.lines[kept] = rows.lines[k];
+    }
+    ++kept;
+  }
+  rows.values.resize(kept);
+  rows.lines.resize(kept);
+}
+const char* time_reason(const std::vector<double>& v) {
+  return v[0] >= 0.0 && v[0] <= kMaxTime ? nullptr : "time outside 0 .. 9e9 s";
+}
+
+
 Rows read_rows(const std::string& path, std::size_t fields, ImportReport& report) {
   return read_numeric_rows(path, fields, report);
 }
@@ -104,10 +138,20 @@ MrclamImport import_mrclam(const std::string& dir, const std::string& out_log, c
 
   // Barcodes: the measurement files name barcodes; subjects 1-5 are the robots, 6-20 the landmarks.
   std::map<int, int> subject_of_barcode;
-  for (const auto& v : read_rows(file("Barcodes.dat"), 2, report).values)
-    subject_of_barcode[static_cast<int>(v[1])] = static_cast<int>(v[0]);
-  for (const auto& v : read_rows(file("Landmark_Groundtruth.dat"), 5, report).values)
-    result.landmarks.push_back({static_cast<int>(v[0]), v[1], v[2]});
+  Rows barcodes = read_rows(file("Barcodes.dat"), 2, report);
+  keep_rows(barcodes, report, [](const std::vector<double>& v) -> const char* {
+    return whole_in(v[0], 1.0, kMaxSubject) && whole_in(v[1], 0.0, kMaxSubject)
+               ? nullptr
+               : "subject and barcode must be whole numbers in 1 .. 1000 and 0 .. 1000";
+  });
+  for (const auto& v : barcodes.values) subject_of_barcode[static_cast<int>(v[1])] = static_cast<int>(v[0]);
+  Rows landmarks = read_rows(file("Landmark_Groundtruth.dat"), 5, report);
+  keep_rows(landmarks, report, [](const std::vector<double>& v) -> const char* {
+    if (!whole_in(v[0], 1.0, kMaxSubject)) return "subject must be a whole number in 1 .. 1000";
+    return std::fabs(v[1]) <= kMaxPosition && std::fabs(v[2]) <= kMaxPosition ? nullptr
+                                                                                : "landmark beyond 100 m of the origin";
+  });
+  for (const auto& v : landmarks.values) result.landmarks.push_back({static_cast<int>(v[0]), v[1], v[2]});
   if (result.landmarks.empty()) throw std::runtime_error(dir + ": no landmarks in Landmark_Groundtruth.dat");
   if (result.dataset == 1 && o.fix_landmarks) {
     auto find = [&](int s) {
@@ -138,6 +182,24 @@ MrclamImport import_mrclam(const std::string& dir, const std::string& out_log, c
                  read_rows(file("Robot" + std::to_string(s) + "_Measurement.dat"), 4, report), {}};
     const std::string gt = (fs::path(dir) / ("Robot" + std::to_string(s) + "_Groundtruth.dat")).string();
     if (fs::exists(gt)) r.truth = read_rows(gt, 4, report);
+    // Times the log can stamp (the sampled layout times ground truth and odometry by their row, not the column).
+    if (!result.sampled) keep_rows(r.odometry, report, time_reason);
+    if (!result.sampled) keep_rows(r.truth, report, time_reason);
+    keep_rows(r.measurements, report, time_reason);
+    keep_rows(r.truth, report, [](const std::vector<double>& v) -> const char* {
+      return std::fabs(v[1]) <= kMaxPosition && std::fabs(v[2]) <= kMaxPosition && std::fabs(v[3]) <= kMaxAngle
+                 ? nullptr
+                 : "pose beyond 100 m of the origin or a heading beyond 100 rad";
+    });
+    keep_rows(r.odometry, report, [](const std::vector<double>& v) -> const char* {
+      return std::fabs(v[1]) <= kMaxSpeed && std::fabs(v[2]) <= kMaxSpeed ? nullptr
+                                                                            : "speed beyond 100 m/s or 100 rad/s";
+    });
+    keep_rows(r.measurements, report, [](const std::vector<double>& v) -> const char* {
+      if (!whole_in(v[1], 0.0, kMaxSubject)) return "barcode must be a whole number in 0 .. 1000";
+      if (!(v[2] > 0.0 && v[2] <= kMaxRange)) return "range not in (0, 1000] m";
+      return std::fabs(v[3]) <= kMaxAngle ? nullptr : "bearing beyond 100 rad";
+    });
     robots.push_back(std::move(r));
   }
   result.has_ground_truth = std::all_of(robots.begin(), robots.end(), [](const RobotFiles& r) {
@@ -209,13 +271,9 @@ MrclamImport import_mrclam(const std::string& dir, const std::string& out_log, c
       const std::int64_t t = stamp(v[0]);
       if (t != group_t) flush();
       group_t = t;
-      const auto it = subject_of_barcode.find(static_cast<int>(v[1]));
-      if (it == subject_of_barcode.end() || v[1] != std::floor(v[1])) {
+      const auto it = subject_of_barcode.find(static_cast<int>(v[1]));  // a whole number (keep_rows)
+      if (it == subject_of_barcode.end()) {
         report.count("measurements of barcodes not in Barcodes.dat (dropped)");
-        continue;
-      }
-      if (!(v[2] > 0.0)) {
-        report.bad_line(r.measurements.path, r.measurements.lines[k], "range not positive");
         continue;
       }
       const int subject = it->second;
