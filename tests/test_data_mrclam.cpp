@@ -137,7 +137,8 @@ TEST_CASE("a malformed MRCLAM line is skipped and counted, or refuses the import
 
 TEST_CASE("MRCLAM rows whose values a log cannot carry are skipped by reason, and the rest imported", "[mrclam]") {
   // Synthetic, raw layout (no dataset needed): the values the importer once converted or stamped unchecked (a
-  // barcode of 1e20 to int, a landmark 1e9 m away sizing the arena map, times of 1e30 s, floats beyond their range).
+  // barcode of 1e20 to int, a landmark 1e9 m away sizing the arena map, times of 1e30 s, floats beyond their range,
+  // a row before the time origin stamped negative: found by fuzz_mrclam).
   const std::string dir = temp_dir("ranges") + "/MRCLAM_Dataset9";
   fs::create_directories(dir);
   std::ofstream(dir + "/Barcodes.dat") << "# Subject #    Barcode #\n1 5\n6 14\n7 1e20\n";
@@ -147,7 +148,8 @@ TEST_CASE("MRCLAM rows whose values a log cannot carry are skipped by reason, an
                                                  "1248272262.2 0.1 0.01\n";
   std::ofstream(dir + "/Robot1_Measurement.dat") << "# Time [s] Subject # range [m] bearing [rad]\n"
                                                     "1248272262.05 14 2.2 0.1\n1248272262.06 14 1e39 0.1\n"
-                                                    "1248272262.07 1e20 2.0 0.1\n1248272262.08 14 2.0 -1e39\n";
+                                                    "1248272262.07 1e20 2.0 0.1\n1248272262.08 14 2.0 -1e39\n"
+                                                    "1248272200.0 14 2.0 0.1\n";  // before t0
   std::ofstream(dir + "/Robot1_Groundtruth.dat") << "# Time [s] x [m] y [m] orientation [rad]\n"
                                                     "1248272262.0 0 0 0\n1248272262.1 1e39 0 0\n";
   MrclamImportOptions o;
@@ -163,7 +165,8 @@ TEST_CASE("MRCLAM rows whose values a log cannot carry are skipped by reason, an
   CHECK(skip.skipped().at("barcode must be a whole number in 0 .. 1000") == 1);
   CHECK(skip.skipped().at("bearing beyond 100 rad") == 1);
   CHECK(skip.skipped().at("pose beyond 100 m of the origin or a heading beyond 100 rad") == 1);
-  CHECK(skip.skipped_total() == 8);
+  CHECK(skip.skipped().at("time before the previous row's") == 1);
+  CHECK(skip.skipped_total() == 9);
   REQUIRE(r.landmarks.size() == 1u);
   const std::vector<MrclamRobotLog> back = read_mrclam_log(out, {1});
   REQUIRE(back.size() == 1u);

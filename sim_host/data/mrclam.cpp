@@ -183,9 +183,20 @@ MrclamImport import_mrclam(const std::string& dir, const std::string& out_log, c
     const std::string gt = (fs::path(dir) / ("Robot" + std::to_string(s) + "_Groundtruth.dat")).string();
     if (fs::exists(gt)) r.truth = read_rows(gt, 4, report);
     // Times the log can stamp (the sampled layout times ground truth and odometry by their row, not the column).
-    if (!result.sampled) keep_rows(r.odometry, report, time_reason);
-    if (!result.sampled) keep_rows(r.truth, report, time_reason);
-    keep_rows(r.measurements, report, time_reason);
+    // Each file in time order (a row before the previous one is a bad line), so that no row comes before the time
+    // origin, the earliest first row.
+    const auto times = [&](Rows& rows) {
+      keep_rows(rows, report, time_reason);
+      double last = 0.0;
+      keep_rows(rows, report, [&last](const std::vector<double>& v) -> const char* {
+        if (v[0] < last) return "time before the previous row's";
+        last = v[0];
+        return nullptr;
+      });
+    };
+    if (!result.sampled) times(r.odometry);
+    if (!result.sampled) times(r.truth);
+    times(r.measurements);
     keep_rows(r.truth, report, [](const std::vector<double>& v) -> const char* {
       return std::fabs(v[1]) <= kMaxPosition && std::fabs(v[2]) <= kMaxPosition && std::fabs(v[3]) <= kMaxAngle
                  ? nullptr
