@@ -10,12 +10,12 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 
 #include "data/import_report.hpp"
 #include "data/mrclam.hpp"
+#include "folder_files.hpp"
 
 namespace {
 
@@ -23,11 +23,6 @@ std::string folder(bool first) {
   const std::string d = "/dev/shm/fuzz_mrclam_" + std::to_string(getpid()) + (first ? "/Dataset1" : "/Dataset2");
   std::filesystem::create_directories(d);
   return d;
-}
-
-void write_file(const std::string& path, const std::uint8_t* data, std::size_t size) {
-  std::ofstream f(path, std::ios::binary | std::ios::trunc);
-  f.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
 }
 
 
@@ -41,14 +36,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static std::FILE* quiet = std::fopen("/dev/null", "w");
   const char* names[5] = {"Barcodes.dat", "Landmark_Groundtruth.dat", "Robot1_Odometry.dat", "Robot1_Measurement.dat",
                           "Robot1_Groundtruth.dat"};
-  std::size_t begin = 1;
-  for (int k = 0; k < 5; ++k) {
-    std::size_t end = begin;
-    while (k < 4 && end < size && data[end] != '\f') ++end;
-    if (k == 4) end = size;
-    write_file(dir + "/" + names[k], data + begin, end - begin);
-    begin = end < size ? end + 1 : size;
-  }
+  fuzz::write_folder(dir, names, 5, data, size, 1);
   const std::string out = dir + "/out.lcmlog";
   sim::data::ImportReport report(mode, quiet, 0);
   sim::data::MrclamImportOptions options;

@@ -10,12 +10,12 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 
 #include "data/import_report.hpp"
 #include "data/victoria.hpp"
+#include "folder_files.hpp"
 #include "memfd_file.hpp"
 
 namespace {
@@ -29,11 +29,6 @@ const std::string& folder() {
   return dir;
 }
 
-void write_file(const std::string& path, const std::uint8_t* data, std::size_t size) {
-  std::ofstream f(path, std::ios::binary | std::ios::trunc);
-  f.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-}
-
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -41,14 +36,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const auto mode = (data[0] & 1) != 0 ? sim::data::OnError::refuse : sim::data::OnError::skip;
   static std::FILE* quiet = std::fopen("/dev/null", "w");
   const char* names[3] = {"inputs.dat", "measurements.dat", "gps.dat"};
-  std::size_t begin = 1;
-  for (int k = 0; k < 3; ++k) {
-    std::size_t end = begin;
-    while (k < 2 && end < size && data[end] != '\f') ++end;
-    if (k == 2) end = size;
-    write_file(folder() + "/" + names[k], data + begin, end - begin);
-    begin = end < size ? end + 1 : size;
-  }
+  fuzz::write_folder(folder(), names, 3, data, size, 1);
   const fuzz::MemFile out("victoria.lcmlog", nullptr, 0);
   sim::data::ImportReport report(mode, quiet, 0);
   sim::data::VictoriaImportOptions options;
