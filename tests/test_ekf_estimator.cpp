@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -465,6 +466,22 @@ TEST_CASE("the EKF loop's outputs are bit-identical when the inputs arrive shuff
   }
 }
 
+// The belief's y at a camera frame's stamp (10 ms): the frame's sightings between two still ticks through the loop,
+// whose output at that stamp holds the frame's correction (end_of_frame()).
+float y_after_frame(JointEstimator& ekf, std::initializer_list<est::loop::LandmarkInput> frame) {
+  JointLoop loop(ekf, est::loop::LoopTiming{});
+  StepClock clock;
+  Outputs out;
+  loop.push(ticks(10 * kMs, 0, 0));
+  for (const auto& z : frame) loop.push(z);
+  loop.push(ticks(100 * kMs, 0, 0));
+  loop.run(clock, out);
+  loop.flush(clock, out);
+  const auto at = std::find_if(out.all.begin(), out.all.end(), [](const auto& o) { return o.t_ns == 10 * kMs; });
+  REQUIRE(at != out.all.end());
+  return out.estimates[static_cast<std::size_t>(at - out.all.begin())].mean.y;
+}
+
 TEST_CASE("joint association fuses a camera frame by JCBB where one sighting at a time picks the wrong posts",
           "[ekf_estimator]") {
   // est/assoc/jcbb.hpp's case, through the loop: three posts ahead 1 m apart and one to the left, the robot 0.6 m to
@@ -484,17 +501,7 @@ TEST_CASE("joint association fuses a camera frame by JCBB where one sighting at 
     c.joint_association = joint;
     JointEstimator ekf(c, map);
     REQUIRE(ekf.initialize_at({0.0f, 0.0f, 0.0f}, 0.4f, 0.02f));
-    JointLoop loop(ekf, est::loop::LoopTiming{});
-    StepClock clock;
-    Outputs out;
-    loop.push(ticks(10 * kMs, 0, 0));
-    for (const int j : {0, 1, 3}) loop.push(sighting(j));
-    loop.push(ticks(100 * kMs, 0, 0));
-    loop.run(clock, out);
-    loop.flush(clock, out);
-    const auto at = std::find_if(out.all.begin(), out.all.end(), [](const auto& o) { return o.t_ns == 10 * kMs; });
-    REQUIRE(at != out.all.end());
-    const float y = out.estimates[static_cast<std::size_t>(at - out.all.begin())].mean.y;
+    const float y = y_after_frame(ekf, {sighting(0), sighting(1), sighting(3)});
     INFO((joint ? "joint" : "one at a time") << ": y " << y);
     if (joint) {
       CHECK(std::fabs(y - truth_y) < 0.05f);
@@ -505,6 +512,48 @@ TEST_CASE("joint association fuses a camera frame by JCBB where one sighting at 
       CHECK(std::fabs(y - truth_y) > 0.3f);
       CHECK(ekf.joint_counters().frames == 0u);
     }
+  }
+}
+
+TEST_CASE("joint association does not fuse a lone pairing that another landmark could explain while the pose is "
+          "uncertain", "[ekf_estimator]") {
+  // Two posts 1 m apart ahead; the robot is on the line of the first, its belief 0.6 m to the left. A single sighting
+  // of the first post is nearer, from the belief, to the second: both are in its gate and the best pairing is the
+  // wrong one. Above lone_pairing_sigma_m the frame is refused (counted, the belief kept); below it, or without the
+  // rule, it is fused; a frame of both posts is fused whatever the width (its joint compatibility tells them apart).
+  const est::Landmark posts[2] = {{5.0f, 0.0f, 0.0f}, {5.0f, 1.0f, 0.0f}};
+  const est::LandmarkMap map(posts, 2);
+  auto sighting = [&](int j) {
+    return est::loop::LandmarkInput{10 * kMs, std::hypot(posts[j].x, posts[j].y), std::atan2(posts[j].y, posts[j].x),
+                                    0.0f, -1};
+  };
+  struct Case {
+    float rule_m, sigma_xy;
+    int sightings;
+    bool refused;
+  };
+  // sqrt(var x + var y) is sigma_xy * 1.41: 0.57 m and 0.21 m against the rule's 0.3 m.
+  for (const Case k : {Case{0.3f, 0.4f, 1, true}, Case{0.0f, 0.4f, 1, false}, Case{0.3f, 0.15f, 1, false},
+                       Case{0.3f, 0.4f, 2, false}}) {
+    auto c = diff_config();
+    c.noise = {0.05f, 0.01f, 0.0f};
+    c.joint_association = true;
+    c.lone_pairing_sigma_m = k.rule_m;
+    JointEstimator ekf(c, map);
+    REQUIRE(ekf.initialize_at({0.0f, 0.6f, 0.0f}, k.sigma_xy, 0.02f));
+    const float y =
+        k.sightings == 1 ? y_after_frame(ekf, {sighting(0)}) : y_after_frame(ekf, {sighting(0), sighting(1)});
+    INFO("rule " << k.rule_m << " m, sigma " << k.sigma_xy << " m, " << k.sightings << " sightings: y " << y);
+    CHECK(ekf.joint_counters().frames == 1u);
+    CHECK(ekf.joint_counters().lone_refused == (k.refused ? 1u : 0u));
+    if (k.refused) {
+      CHECK(y == 0.6f);
+      CHECK(ekf.joint_counters().unpaired == 1u);
+    } else {
+      CHECK(std::fabs(y - 0.6f) > 0.05f);
+    }
+    if (k.rule_m == 0.0f) CHECK(y > 0.9f);             // without the rule: the wrong post, the error grows
+    if (k.sightings == 2) CHECK(std::fabs(y) < 0.1f);  // both posts: the belief goes to the truth
   }
 }
 

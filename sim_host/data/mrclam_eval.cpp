@@ -88,6 +88,7 @@ Trajectory run_node(const MrclamEval& ev, const MrclamRobotLog& r, const std::st
   s.ekf_reopen_sigma_theta = o.noise.reopen_sigma_theta;
   s.ambiguity_nats = o.noise.ambiguity_nats;
   s.joint_association = o.noise.joint_association;
+  s.lone_pairing_sigma_m = o.noise.lone_pairing_sigma_m;
   const TimedPose x0 = first_truth(r);
   s.initial_pose = {static_cast<float>(x0.x), static_cast<float>(x0.y), static_cast<float>(x0.theta)};
   s.initial_sigma_xy_m = 0.05f;
@@ -102,7 +103,7 @@ Trajectory run_node(const MrclamEval& ev, const MrclamRobotLog& r, const std::st
   } else {
     s.filter = est::loop::Filter::ekf;
     s.landmark_ids = method != "ekf-unknown-correspondence";
-    if (s.landmark_ids) {
+    if (s.landmark_ids || s.joint_association) {  // the camera's noise; table 7.3 keeps the constant (MrclamNoise)
       s.landmark_noise.sigma_range = o.noise.range_sigma_0;
       s.landmark_sigma_range_per_m = o.noise.range_sigma_per_m;
     }
@@ -399,17 +400,21 @@ void add_mrclam_eval(CLI::App& eval) {
                   "fit the odometry scales on this sampled-50hz folder ('auto': the other of Datasets 1 and 2; "
                   "'': none, the commanded (v, w) as they are)")->capture_default_str();
   cmd->add_option("--sigma-range", opts->noise.sigma_range,
-                  "camera range noise (m), constant: unknown correspondence and MCL")->capture_default_str();
+                  "camera range noise (m), constant: MCL and --association ml")->capture_default_str();
   cmd->add_option("--range-sigma-0", opts->noise.range_sigma_0,
-                  "the known-landmark EKF's and the team's range noise at range 0 (m)")->capture_default_str();
+                  "the EKFs' (but --association ml's) and the team's range noise at range 0 (m)")->capture_default_str();
   cmd->add_option("--range-sigma-per-m", opts->noise.range_sigma_per_m,
-                  "the known-landmark EKF's and the team's range noise growth per metre of range")
+                  "the EKFs' (but --association ml's) and the team's range noise growth per metre of range")
       ->capture_default_str();
   cmd->add_option("--sigma-bearing", opts->noise.sigma_bearing, "camera bearing noise (rad)")->capture_default_str();
   cmd->add_option("--ambiguity-nats", opts->noise.ambiguity_nats,
                   "unknown correspondence: refuse a sighting (ml) or a frame's disputed pairings (jcbb) whose runner-up "
                   "landmark or assignment is this close (log likelihood)")
       ->capture_default_str();
+  cmd->add_option("--lone-pairing-sigma", opts->noise.lone_pairing_sigma_m,
+                  "unknown correspondence, jcbb: a frame pairing one sighting, another landmark in its gate, is not "
+                  "fused while the position's deviation is above this (m; 0: always fused)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
   cmd->add_option_function<std::string>(
          "--association",
          [opts](const std::string& v) {

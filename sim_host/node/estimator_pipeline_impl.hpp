@@ -281,6 +281,7 @@ class PipelineImpl final : public EstimatorPipeline {
       e.reopen_sigma_theta = s.ekf_reopen_sigma_theta;
       e.ekf.ambiguity_nats = s.ambiguity_nats;
       e.joint_association = s.joint_association;
+      e.lone_pairing_sigma_m = s.lone_pairing_sigma_m;
       e.noise = s.landmark_noise;
       e.sigma_range_per_m = s.landmark_sigma_range_per_m;
       e.lost_sigma_m = s.lost_sigma_m;

@@ -105,6 +105,7 @@ struct EstimatorSpec {
   bool landmark_ids = true;    // false: the sensor's landmark ids are ignored (association by maximum likelihood)
   float ambiguity_nats = 0.0f;  // EKF, maximum likelihood: refuse a feature whose runner-up is this close (nats)
   bool joint_association = false;  // EKF: features without an id associated per frame by JCBB (est/assoc/jcbb.hpp)
+  float lone_pairing_sigma_m = 0.0f;  // EKF with JCBB: no lone pairing with a runner-up above this deviation (0: off)
   bool mcl_landmarks = false;  // MCL corrects with landmark sightings on the landmark map, as well as with scans
 
   // EKF-SLAM (est/loop/ekf_slam_estimator.hpp): the association's gates and the tentative landmarks; the landmark

@@ -289,6 +289,10 @@ void add_options(CLI::App& app, NodeConfig& c) {
   app.add_flag("--joint-association", e.joint_association,
                "EKF: features without an id are associated per camera frame (the features sharing a stamp) by joint "
                "compatibility branch and bound instead of one at a time by maximum likelihood")->group(ekf);
+  app.add_option("--lone-pairing-sigma", e.lone_pairing_sigma_m,
+                 "EKF with --joint-association: a frame that pairs a single feature, with another landmark also in its "
+                 "gate, is not fused while the position's deviation is above this (m; 0: always fused)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
   app.add_flag("--mcl-landmarks", e.mcl_landmarks,
                "MCL also corrects with landmark sightings on --landmarks (table 6.4 per particle)")->group(ekf);
   app.add_option("--ekf-rot-sigma", e.ekf_rot_sigma, "heading noise added to every EKF prediction (rad)")->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
@@ -483,6 +487,8 @@ std::string command_line(const EstimatorSpec& e, const std::string& map, const s
   }
   if (e.filter == est::loop::Filter::ekf && e.ambiguity_nats > 0.0f) o += " --ambiguity-nats " + f(e.ambiguity_nats);
   if (e.filter == est::loop::Filter::ekf && e.joint_association) o += " --joint-association";
+  if (e.filter == est::loop::Filter::ekf && e.joint_association && e.lone_pairing_sigma_m > 0.0f)
+    o += " --lone-pairing-sigma " + f(e.lone_pairing_sigma_m);
   if (e.filter == est::loop::Filter::ekf && e.landmark_sigma_range_per_m > 0.0f)
     o += " --landmark-sigma-range-per-m " + f(e.landmark_sigma_range_per_m);
   if (e.filter == est::loop::Filter::ekf || e.filter == est::loop::Filter::ekf_slam) {

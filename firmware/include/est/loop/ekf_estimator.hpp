@@ -58,6 +58,11 @@ struct EkfEstimatorConfig {
   bool joint_association = false;  // features without an id: associated per frame by JCBB instead of table 7.3
                                    // (needs an EkfEstimator with JointSightings > 0)
   JcbbParams jcbb{};
+  // Joint association: a frame whose assignment pairs a single feature is not fused while the position's deviation
+  // (sqrt(var x + var y)) is above this and another landmark is also in that feature's gate (a runner-up): one
+  // range and bearing cannot tell the landmarks apart then, and a wrong one, fused at that width, moves the pose by
+  // metres. Frames of two or more pairings are fused (their joint compatibility tells). 0: never refused.
+  float lone_pairing_sigma_m = 0.0f;
 };
 
 // Joint association's counts (EkfEstimator::joint_counters()).
@@ -65,8 +70,9 @@ struct JointAssociationCounters {
   std::uint32_t frames = 0;
   std::uint32_t features = 0;
   std::uint32_t paired = 0;              // given a landmark by the frame's assignment
-  std::uint32_t unpaired = 0;            // in no jointly compatible assignment of the most pairings, or ambiguous
+  std::uint32_t unpaired = 0;            // in no jointly compatible assignment of the most pairings, ambiguous, or lone
   std::uint32_t ambiguous_frames = 0;    // the runner-up assignment within ambiguity_nats: shared pairings only
+  std::uint32_t lone_refused = 0;        // one pairing, a runner-up, the pose uncertain (lone_pairing_sigma_m)
   std::uint32_t node_cap_hits = 0;       // frames whose search stopped at JcbbParams::max_nodes
   std::uint32_t split_frames = 0;        // frames of more than kFrameSightings features
   std::uint32_t candidates_dropped = 0;  // individually compatible landmarks beyond kCandidates
@@ -212,6 +218,11 @@ class EkfEstimator {
     // runner-up assignment's log likelihood is within that margin, only the pairings both make are fused.
     const bool ambiguous = a.has_runner_up && 0.5f * (a.runner_up_nis - a.joint_nis) < config_.ekf.ambiguity_nats;
     if (ambiguous) ++c.ambiguous_frames;
+    if (a.ok && a.paired == 1 && a.has_runner_up && lone_pairing_uncertain()) {
+      ++c.lone_refused;
+      c.unpaired += static_cast<std::uint32_t>(n);
+      return StepOutcome::rejected;
+    }
     std::int32_t fused = 0;
     for (int i = 0; i < n; ++i) {
       std::int32_t j = a.ok ? a.landmark_of[i] : -1;
@@ -259,6 +270,11 @@ class EkfEstimator {
     gate_refusals_ = 0;
     ++reopenings_;
     return true;
+  }
+
+  bool lone_pairing_uncertain() const {
+    const float limit = config_.lone_pairing_sigma_m * config_.lone_pairing_sigma_m;
+    return limit > 0.0f && ekf_.covariance()(0, 0) + ekf_.covariance()(1, 1) > limit;
   }
 
   bool lost() const {
