@@ -293,6 +293,43 @@ TEST_CASE("with the EKF (--filter ekf) a replay of landmark sightings is determi
   CHECK(lc.of(InputKind::landmark).accepted == s.landmark_features);
 }
 
+TEST_CASE("with the EKF and joint association (--joint-association) a replay pairs the posts without their ids, "
+          "tracks the truth and says where every feature went", "[node]") {
+  const OfficeStream& s = stream();
+  REQUIRE(s.landmark_features > 40u);
+  const std::vector<std::string> jcbb = {"--filter", "ekf", "--landmarks", "office", "--initial-sigma", "0.05,0.02",
+                                         "--landmark-association", "ml", "--joint-association",
+                                         "--lone-pairing-sigma", "0.3"};
+  auto a = std::make_unique<node::Node>(node_config(replay_args(tmp("stream.lcmlog"), tmp("jcbb_a.lcmlog"), jcbb)));
+  REQUIRE(a->run() == 0);
+  REQUIRE(a->pipeline().joint_counters() != nullptr);
+  const est::loop::JointAssociationCounters n = *a->pipeline().joint_counters();
+  const Finished done = finish(a);
+  INFO(done.summary);
+  const auto est = read_estimates(tmp("jcbb_a.lcmlog"));
+  REQUIRE(est.size() >= 595u);
+  const auto [worst_m, worst_rad] = worst_errors(est, s);
+  INFO("worst position error " << worst_m << " m, heading " << worst_rad << " rad");
+  CHECK(worst_m < 0.1);
+  CHECK(worst_rad < 0.1);
+  // Every feature of every frame in one counter; from the true start nearly all paired, none refused as lone.
+  CHECK(n.frames == s.landmark_messages);
+  CHECK(n.features == s.landmark_features);
+  CHECK(n.paired + n.unpaired == n.features);
+  CHECK(n.paired * 10u >= n.features * 9u);
+  CHECK(n.lone_refused == 0u);
+  CHECK(summary_value(done.summary, "  jcbb:", "frames") == static_cast<long long>(n.frames));
+  CHECK(summary_value(done.summary, "  jcbb:", "paired") == static_cast<long long>(n.paired));
+  CHECK(summary_value(done.summary, "  jcbb:", "lone_refused") == 0);
+  // Without joint association there is no such line (nor counters).
+  auto plain = std::make_unique<node::Node>(node_config(replay_args(
+      tmp("stream.lcmlog"), tmp("jcbb_b.lcmlog"), {"--filter", "ekf", "--landmarks", "office", "--initial-sigma",
+                                                    "0.05,0.02", "--landmark-association", "ml"})));
+  REQUIRE(plain->run() == 0);
+  CHECK(plain->pipeline().joint_counters() == nullptr);
+  CHECK(finish(plain).summary.find("  jcbb:") == std::string::npos);
+}
+
 TEST_CASE("with EKF-SLAM (--filter ekf-slam) a replay maps the posts it sees without a map or their ids, "
           "deterministically, and says where every feature went", "[node]") {
   const OfficeStream& s = stream();

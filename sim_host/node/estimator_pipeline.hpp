@@ -13,6 +13,7 @@
 #include "est/filter/augmented_mcl.hpp"
 #include "est/filter/correction_status.hpp"
 #include "est/filter/ekf_localization.hpp"
+#include "est/loop/ekf_estimator.hpp"
 #include "est/loop/ekf_slam_estimator.hpp"
 #include "est/loop/input_kinds.hpp"
 #include "est/loop/loop_counters.hpp"
@@ -59,6 +60,10 @@ class EstimatorPipeline {
   virtual const est::MclCounters* mcl_counters() const = 0;
   virtual const est::CorrectionCounters* ekf_counters() const = 0;
   virtual const est::PredictionCounters* ekf_prediction_counters() const = 0;
+  // The EKF: its gate's re-openings (0 for the other filters); with --joint-association, where each camera frame's
+  // features went (nullptr otherwise).
+  virtual std::uint32_t ekf_reopenings() const = 0;
+  virtual const est::loop::JointAssociationCounters* joint_counters() const = 0;
 
   // EKF-SLAM: where each feature went (nullptr for the other filters), and the map.
   virtual const est::loop::SlamAssociationCounters* slam_counters() const = 0;

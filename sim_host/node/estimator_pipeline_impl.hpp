@@ -212,6 +212,14 @@ class PipelineImpl final : public EstimatorPipeline {
     if constexpr (kMcl) return nullptr;
     else return &estimator_.filter().prediction_counters();
   }
+  std::uint32_t ekf_reopenings() const override {
+    if constexpr (F == est::loop::Filter::ekf) return estimator_.reopenings();
+    else return 0;
+  }
+  const est::loop::JointAssociationCounters* joint_counters() const override {
+    if constexpr (F == est::loop::Filter::ekf) return spec_.joint_association ? &estimator_.joint_counters() : nullptr;
+    else return nullptr;
+  }
   const est::loop::SlamAssociationCounters* slam_counters() const override {
     if constexpr (kSlam) return &estimator_.counters();
     else return nullptr;

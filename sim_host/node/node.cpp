@@ -625,6 +625,12 @@ struct Node::Impl {
                    pipeline->slam_landmarks(), pipeline->slam_tentative_landmarks(), s->frames, s->features(),
                    s->associated, s->created, s->discarded, s->beyond_range, s->tentative, s->update_refused,
                    s->insert_refused, s->map_full, s->tentative_full, s->bad_input, s->tentative_forgotten);
+    if (const est::loop::JointAssociationCounters* j = pipeline->joint_counters())
+      std::fprintf(f,
+                   "  jcbb: frames=%u features=%u paired=%u unpaired=%u ambiguous_frames=%u lone_refused=%u "
+                   "node_cap_hits=%u split_frames=%u candidates_dropped=%u reopenings=%u\n",
+                   j->frames, j->features, j->paired, j->unpaired, j->ambiguous_frames, j->lone_refused,
+                   j->node_cap_hits, j->split_frames, j->candidates_dropped, pipeline->ekf_reopenings());
     if (pipeline->inputs().has(est::loop::InputKind::scan)) {
       const auto& beams = pipeline->gate().scan().beams();  // readings refused inside scans the gate passed
       std::fprintf(f, "  beams.scan: nan=%u below_min=%u\n", beams.not_a_number, beams.below_min);
