@@ -218,6 +218,11 @@ TEST_CASE("MRCLAM Dataset 1, first 300 s: EKF localization within 0.13 m of Vico
   CHECK(j["methods"][1]["name"] == "ekf-known-landmarks");
   CHECK(j["methods"][1]["robots"][0]["id"] == 1);
   CHECK(j["methods"][1]["robots"][0]["rmse_xy_m"].get<double>() == Approx(ekf.robots[0].error.rmse_xy_m));
+  // What the run was asked, beside its figures: a result read later says which settings gave it.
+  CHECK(j["settings"]["association"] == "jcbb");
+  CHECK(j["settings"]["lone_pairing_sigma_m"].get<double>() == Approx(o.noise.lone_pairing_sigma_m));
+  CHECK(j["settings"]["ambiguity_nats"].get<double>() == Approx(2.0));
+  CHECK(j["settings"]["max_seconds"].get<double>() == Approx(o.max_seconds));
 }
 
 TEST_CASE("MRCLAM odometry calibration: the robots' motion follows their commands by 0.2-0.3 s", "[mrclam]") {

@@ -303,6 +303,7 @@ MrclamEval eval_mrclam(const std::string& dir, const MrclamEvalOptions& o) {
       throw std::invalid_argument("unknown method '" + m + "'");
   fs::create_directories(o.out_dir);
   MrclamEval ev;
+  ev.options = o;
   ev.log_path = (fs::path(o.out_dir) / "mrclam.lcmlog").string();
   ImportReport report(OnError::skip, o.quiet ? nullptr : stderr);
   MrclamImportOptions io;
@@ -374,7 +375,30 @@ nlohmann::json to_json(const MrclamEval& ev) {
   }
   nlohmann::json scales = nlohmann::json::array();
   for (int r = 1; r <= kMrclamRobots; ++r) scales.push_back({{"id", r}, {"v", ev.scales.v[r]}, {"w", ev.scales.w[r]}, {"lag_s", ev.scales.lag_s[r]}});
+  const MrclamNoise& n = ev.options.noise;
+  const nlohmann::json settings = {
+      {"motion_noise_a", std::vector<float>(std::begin(n.a), std::end(n.a))},
+      {"rot_sigma_rad", n.rot_sigma},
+      {"sigma_range_m", n.sigma_range},
+      {"sigma_bearing_rad", n.sigma_bearing},
+      {"range_sigma_0_m", n.range_sigma_0},
+      {"range_sigma_per_m", n.range_sigma_per_m},
+      {"association", n.joint_association ? "jcbb" : "ml"},
+      {"ambiguity_nats", n.ambiguity_nats},
+      {"lone_pairing_sigma_m", n.lone_pairing_sigma_m},
+      {"ekf_rot_sigma_rad", n.ekf_rot_sigma},
+      {"ekf_heading_noise_per_rad", n.ekf_motion.heading_per_rad},
+      {"ekf_heading_noise_per_m", n.ekf_motion.heading_per_m},
+      {"ekf_along_noise_per_m", n.ekf_motion.along_per_m},
+      {"ekf_cross_noise_per_m", n.ekf_motion.cross_per_m},
+      {"reopen_after", n.reopen_after},
+      {"reopen_sigma_xy_m", n.reopen_sigma_xy},
+      {"reopen_sigma_theta_rad", n.reopen_sigma_theta},
+      {"particles", ev.options.particles},
+      {"seed", ev.options.seed},
+      {"max_seconds", ev.options.max_seconds}};
   return {{"dataset", ev.import.dataset},
+          {"settings", settings},
           {"odometry_calibration", {{"fitted_on", ev.calibration_dir}, {"scales", scales}}},
           {"layout", ev.import.sampled ? "sampled-50hz" : "raw"},
           {"duration_s", ev.import.duration_s},

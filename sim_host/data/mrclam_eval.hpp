@@ -100,6 +100,7 @@ struct MrclamMethodResult {
   std::string detail;  // e.g. the landmarks the SLAM filter mapped and their error
 };
 struct MrclamEval {
+  MrclamEvalOptions options;  // what the run was asked (results.json's "settings": the noise, association, MCL's)
   MrclamImport import;
   std::string calibration_dir;  // where the odometry scales were fitted (empty: none)
   MrclamOdometryScales scales;
