@@ -56,9 +56,10 @@ struct MrclamNoise {
   // JCBB: a frame that pairs one sighting, with a second landmark in its gate, is not fused while the position's
   // deviation is above this (est/loop/ekf_estimator.hpp). With the camera's range noise above it takes the means
   // from 0.119 / 0.136 m (constant 0.2 m, no such rule) to 0.108 / 0.126 m, worst robot 0.161 / 0.220 m to
-  // 0.153 / 0.212 m; the same from 0.2 to 0.45 m, 0.6 m loses robot 4 of Dataset 2's recovery at 321 s (one
-  // sighting after a 56 s gap paired with the wrong landmark, 1.6 m away); without the rule the range noise alone
-  // is worse (0.126 / 0.129 m, worst 0.219 / 0.225 m). Full runs, docs/evaluation.md.
+  // 0.153 / 0.212 m; the same from 0.2 to 0.45 m, 0.6 m gives 0.111 / 0.129 m, worst 0.165 / 0.225 m (robot 4 of
+  // Dataset 2 as without the rule: at 321 s one sighting after a 56 s gap is paired with the wrong landmark, 1.6 m
+  // away); without the rule the range noise alone is worse (0.126 / 0.129 m, worst 0.219 / 0.225 m). Full runs,
+  // docs/evaluation.md.
   float lone_pairing_sigma_m = 0.3f;
   // The single-robot EKFs' process noise beside the velocity model's (the team filters keep rot_sigma): the heading
   // noise per 10 ms prediction (ekf_rot_sigma < 0: rot_sigma), and noise per metre driven and per radian turned
