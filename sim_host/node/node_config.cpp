@@ -4,6 +4,7 @@
 #include "node/estimator_pipeline.hpp"
 #include "node/view_feed.hpp"
 
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <map>
 #include <string>

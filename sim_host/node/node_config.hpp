@@ -1,12 +1,15 @@
 #pragma once
 // estimator_node's configuration: the transports, the maps, and the estimator (node/estimator_spec.hpp), every
 // option of the command line with its default, in one struct (host only).
-#include <CLI/CLI.hpp>
 #include <cstdint>
 #include <string>
 
 #include "hal/lcm/channels.hpp"
 #include "node/estimator_spec.hpp"
+
+namespace CLI {  // <CLI/CLI.hpp> costs ~8 s of compile per file: only the files that register options include it
+class App;
+}  // namespace CLI
 
 namespace node {
 

@@ -3,13 +3,16 @@
 // host's capacities, what every robot's node must agree on (the team, its initial estimate, the noise, the window),
 // the command line that gives it, and the line each closed step writes (so a node's output and the in-process
 // lockstep run compare bit for bit). Host only.
-#include <CLI/CLI.hpp>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "est/team/coop_ekf_estimator.hpp"
 #include "est/team/team_window.hpp"
+
+namespace CLI {  // <CLI/CLI.hpp> costs ~8 s of compile per file: only the files that register options include it
+class App;
+}  // namespace CLI
 
 namespace node {
 

@@ -77,19 +77,40 @@ class HeadingRangeTable {
 
   // heading_bins: the ray's heading in bins (heading * bins_per_rad()), within [-2 T, 2 T]; (dx, dy) its unit vector.
   float cast_bins(float x, float y, float dx, float dy, float heading_bins, float max_range) const {
-    const float gx = (x - ox_) * inv_res_;
-    const float gy = (y - oy_) * inv_res_;
-    if (!(gx >= 0.0f && gy >= 0.0f && gx < static_cast<float>(w_) && gy < static_cast<float>(h_))) return 0.0f;
+    return cast_from(origin(x, y), dx, dy, heading_bins, max_range);
+  }
+
+  // A start shared by many rays (the beam model's sensor position): its cell and its row of the table, found once;
+  // row is null outside the map.
+  struct Origin {
+    float gx = 0.0f, gy = 0.0f;
+    std::int32_t ix = 0, iy = 0;
+    const std::uint16_t* row = nullptr;
+  };
+  Origin origin(float x, float y) const {
+    Origin o;
+    o.gx = (x - ox_) * inv_res_;
+    o.gy = (y - oy_) * inv_res_;
+    if (!(o.gx >= 0.0f && o.gy >= 0.0f && o.gx < static_cast<float>(w_) && o.gy < static_cast<float>(h_))) return o;
+    o.ix = static_cast<std::int32_t>(o.gx);
+    o.iy = static_cast<std::int32_t>(o.gy);
+    if (o.ix >= w_) o.ix = w_ - 1;
+    if (o.iy >= h_) o.iy = h_ - 1;
+    o.row = units_ + (static_cast<std::uint32_t>(o.iy * w_ + o.ix) << shift_);
+    return o;
+  }
+
+  // cast_bins() from a prepared origin: the same float.
+  float cast_from(const Origin& o, float dx, float dy, float heading_bins, float max_range) const {
+    if (o.row == nullptr) return 0.0f;
     if (!(max_range > 0.0f)) return 0.0f;
     const float f = heading_bins + static_cast<float>(2 * bins_);
     if (!(f >= 0.0f && f < static_cast<float>(4 * bins_))) return 0.0f;  // also rejects NaN
-    std::int32_t ix = static_cast<std::int32_t>(gx);
-    std::int32_t iy = static_cast<std::int32_t>(gy);
-    if (ix >= w_) ix = w_ - 1;
-    if (iy >= h_) iy = h_ - 1;
+    const float gx = o.gx, gy = o.gy;
+    const std::int32_t ix = o.ix, iy = o.iy;
+    const std::uint16_t* row = o.row;
     const std::int32_t i0 = static_cast<std::int32_t>(f);
     const float frac = f - static_cast<float>(i0);
-    const std::uint16_t* row = units_ + (static_cast<std::uint32_t>(iy * w_ + ix) << shift_);
     const std::int32_t a = row[static_cast<std::uint32_t>(i0) & mask_];
     const std::int32_t b = row[static_cast<std::uint32_t>(i0 + 1) & mask_];
     if (a == 0 && b == 0) return 0.0f;  // occupied start cell (or a wall touching the centre)

@@ -31,9 +31,10 @@
 // index, per heading; entries per heading ~2.3 x the boundary cells facing it. Intel map 888 x 848, T = 64, blocks
 // of 32 cells: 1.65 M entries, 22.4 MiB (T = 128: 44 MiB); the board's room 160 x 120 (bench_mcl_main.cpp), T = 32,
 // blocks of 64 cells: 39 k entries, 412 KB (T = 16: 221 KB; T = 64: 796 KB).
-// Cost: the lanes crossed (~2.5 per ray on the Intel map at T = 64, 4 on the room at T = 32), in each a block
-// lookup and a few key steps, and ~2 exact slab tests per ray; ~430 x86 instructions per cast in the beam model on
-// the room at T = 64. Measured: bench_sensor_models (host) and bench_mcl.<board> (README, "Benchmarks" and
+// Cost: the lanes crossed (2.8 per ray on the Intel map at T = 64 in bench_sensor_models, 4 on the room at T = 32),
+// in each a block lookup and a few key steps (0.04 per ray), and 1.4 exact slab tests per ray; on the Intel map
+// ~370 x86 instructions per cast in the beam model (callgrind, 2026-12-06), the start's cell found once per
+// particle (origin(), cast_from()). Measured: bench_sensor_models (host) and bench_mcl.<board> (README, "Benchmarks" and
 // "Budgets on the board"): faster than the distance-transform caster in the cluttered Intel map, not in the board's
 // open room, where that caster jumps across the free space in a few steps.
 // Build: T passes over the grid plus a heap sort per lane (no heap memory); meant for start-up or the host (Intel
@@ -108,9 +109,26 @@ class LaneRayCaster {
   // heading_bins: the ray's heading in bins (heading * bins_per_rad()), any value within +-2^20; (dx, dy) its unit
   // vector. Exact whatever the heading given, fastest when it is the ray's (the lanes crossed grow with the gap).
   float cast_bins(float x, float y, float dx, float dy, float heading_bins, float max_range) const {
-    detail::GridRay r;
-    if (!r.init(grid_, x, y, dx, dy, max_range)) return 0.0f;
-    if (grid_.is_occupied_value(grid_.at(r.ix, r.iy))) return 0.0f;
+    return cast_from(origin(x, y), dx, dy, heading_bins, max_range);
+  }
+
+  // A start shared by many rays (the beam model's sensor position): its cell, found once, and whether rays from it
+  // are walked at all (inside the map, not in an occupied cell: otherwise every cast from it returns 0).
+  struct Origin {
+    detail::GridRay ray{};
+    bool walk = false;
+  };
+  Origin origin(float x, float y) const {
+    Origin o;
+    o.walk = o.ray.start(grid_, x, y) && !grid_.is_occupied_value(grid_.at(o.ray.ix, o.ray.iy));
+    return o;
+  }
+
+  // cast_bins() from a prepared origin: the same float.
+  float cast_from(const Origin& o, float dx, float dy, float heading_bins, float max_range) const {
+    if (!o.walk) return 0.0f;
+    detail::GridRay r = o.ray;
+    if (!r.aim(grid_, dx, dy, max_range)) return 0.0f;
     const float f = heading_bins + 0.5f + 1048576.0f;
     std::uint32_t b = (f >= 0.0f && f < 2097152.0f) ? static_cast<std::uint32_t>(f) & mask_ : 0u;
     float cb = t_.cos_b[b], sb = t_.sin_b[b];

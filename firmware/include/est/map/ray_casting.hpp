@@ -44,8 +44,11 @@ struct GridRay {
 
   // False when the start is outside the map or anything is non-finite.
   bool init(const OccupancyGrid& g, float x, float y, float ddx, float ddy, float max_range) {
-    constexpr float kTiny = 1e-9f;
-    if (!(max_range > 0.0f) || !fmath::isfinite(ddx) || !fmath::isfinite(ddy)) return false;
+    return start(g, x, y) && aim(g, ddx, ddy, max_range);
+  }
+  // The two halves of init(), for many rays from one start: start() once, then aim() per ray (either order).
+  // start: false when (x, y) is outside the map or not finite.
+  bool start(const OccupancyGrid& g, float x, float y) {
     gx = (x - g.origin_x()) * g.inv_resolution();
     gy = (y - g.origin_y()) * g.inv_resolution();
     if (!(gx >= 0.0f && gy >= 0.0f && gx < static_cast<float>(g.width()) && gy < static_cast<float>(g.height())))
@@ -54,6 +57,12 @@ struct GridRay {
     iy = static_cast<std::int32_t>(gy);
     if (ix >= g.width()) ix = g.width() - 1;
     if (iy >= g.height()) iy = g.height() - 1;
+    return true;
+  }
+  // aim: false when max_range is not positive or the direction not finite.
+  bool aim(const OccupancyGrid& g, float ddx, float ddy, float max_range) {
+    constexpr float kTiny = 1e-9f;
+    if (!(max_range > 0.0f) || !fmath::isfinite(ddx) || !fmath::isfinite(ddy)) return false;
     dx = ddx;
     dy = ddy;
     step_x = ddx > kTiny ? 1 : (ddx < -kTiny ? -1 : 0);

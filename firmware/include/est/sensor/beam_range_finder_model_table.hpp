@@ -94,11 +94,12 @@ inline float beam_range_finder_model(const ScanBeams& z, const BeamBearings& bea
   // The sensor heading in bins, within [-T/2, T/2]; each beam's bearing adds at most T/2 more.
   const float heading_bins = fmath::normalize_angle(x.theta + mount.theta) * table.bins_per_rad();
   const float zm = model.params().range_max;
+  const HeadingRangeTable::Origin o = table.origin(f.x, f.y);
   float sum = 0.0f;
   for (std::int32_t k = 0; k < z.count; ++k) {
     const float dx = f.c * z.ux[k] - f.s * z.uy[k];
     const float dy = f.s * z.ux[k] + f.c * z.uy[k];
-    const float z_exp = table.cast_bins(f.x, f.y, dx, dy, heading_bins + bearings.bins_of_beam[k], zm);
+    const float z_exp = table.cast_from(o, dx, dy, heading_bins + bearings.bins_of_beam[k], zm);
     sum += model.log_density(z.is_max[k] ? zm : z.range[k], z_exp);
   }
   return sum;
@@ -111,7 +112,8 @@ inline float beam_range_finder_model(const ScanBeams& z, const BeamBearings& bea
 // K 2^-24 + 2 ULP of the result of the exact sum of the per-beam log densities (tested), e.g. 2.2e-5 nats for
 // K = 360. Floors and refusals as above, and the readings must match the scan's beam count and the model's
 // parameters (else K * kBeamLogDensityFloor).
-// The loop of the overload below over any caster of heading bins (valid(), bins(), bins_per_rad(), cast_bins()):
+// The loop of the overload below over any caster of heading bins (valid(), bins(), bins_per_rad(), origin(),
+// cast_from(): the sensor's cell found once per particle):
 // the heading table here, the exact lane caster in beam_range_finder_model_lanes.hpp.
 template <typename BinCaster>
 inline float beam_range_finder_model_over_bins(const ScanBeams& z, const BeamBearings& bearings,
@@ -124,11 +126,12 @@ inline float beam_range_finder_model_over_bins(const ScanBeams& z, const BeamBea
   const SensorFrame f = sensor_frame(x, mount);
   const float heading_bins = fmath::normalize_angle(x.theta + mount.theta) * caster.bins_per_rad();
   const float zm = model.params().range_max;
+  const typename BinCaster::Origin o = caster.origin(f.x, f.y);
   LogProduct q;
   for (std::int32_t k = 0; k < z.count; ++k) {
     const float dx = f.c * z.ux[k] - f.s * z.uy[k];
     const float dy = f.s * z.ux[k] + f.c * z.uy[k];
-    const float z_exp = caster.cast_bins(f.x, f.y, dx, dy, heading_bins + bearings.bins_of_beam[k], zm);
+    const float z_exp = caster.cast_from(o, dx, dy, heading_bins + bearings.bins_of_beam[k], zm);
     q.mul(model.density(readings.reading[k], z_exp));
   }
   return q.log();
