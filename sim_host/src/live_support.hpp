@@ -184,8 +184,9 @@ class Collector {
     est_lcm::pose_estimate_t m;
     const int n = static_cast<int>(b->data_size);
     if (m.decode(b->data, 0, n) != n) return;
+    const std::int64_t stamp = m.stamp_ns;  // read before the push (GCC 12 at -O2 sees a dangling m after it)
     by_channel_[channel].push_back(m);
-    if (m.stamp_ns > latest_) latest_ = m.stamp_ns;
+    if (stamp > latest_) latest_ = stamp;
     ++heard_;
   }
   ::lcm::LCM lcm_;
