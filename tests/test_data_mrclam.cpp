@@ -247,9 +247,11 @@ TEST_CASE("MRCLAM Datasets 1 and 2, full runs: EKF localization tracks every rob
   // 0.136 with a constant 0.2 m; 0.118 and 0.152 without the lag too), every robot but robot 4 at or under 0.118 m
   // (robot 4: 0.128 and 0.188 m, its sightings up to 78 and 129 s apart). Unknown correspondence, each camera
   // frame associated jointly (JCBB, 2 nats, the camera's range noise, no lone pairing with a runner-up above
-  // 0.3 m): means 0.108 and 0.126 m, every robot at or under 0.153 m but robot 4 of Dataset 2 (0.212 m); without
-  // the lone pairing rule and with a constant 0.2 m the means were 0.119 and 0.136 m (worst 0.161 and 0.220 m); one
-  // sighting at a time (table 7.3, 1 nat) 0.279 and 0.240 m, worst 0.72 m (4.8 m with table 7.3's plain maximum).
+  // 0.3 m, the gate re-opened in heading only): means 0.108 and 0.122 m, every robot at or under 0.153 m but robot 4
+  // of Dataset 2 (0.194 m; 0.212 m when the reopening widened the position by 0.5 m too): the issue's target, no
+  // robot lost, each under 0.20 m, is checked as it stands. Without the lone pairing rule and with a constant 0.2 m
+  // the means were 0.119 and 0.136 m (worst 0.161 and 0.220 m); one sighting at a time (table 7.3, 1 nat) 0.279 and
+  // 0.240 m, worst 0.72 m (4.8 m with table 7.3's plain maximum).
   for (const char* name : {"MRCLAM_Dataset1", "MRCLAM_Dataset2"}) {
     const std::string dir = test_support::dataset_or_skip(std::string("utias-mrclam/sampled-50hz/") + name);
     MrclamEvalOptions o;
@@ -267,7 +269,7 @@ TEST_CASE("MRCLAM Datasets 1 and 2, full runs: EKF localization tracks every rob
                 << ekf.robots[a].error.rmse_theta_rad << " rad, unknown " << unknown.robots[a].error.rmse_xy_m);
       CHECK(ekf.robots[a].error.rmse_xy_m < (ekf.robots[a].id == 4 ? 0.20 : 0.125));
       CHECK(ekf.robots[a].error.rmse_theta_rad < 0.16);
-      CHECK(unknown.robots[a].error.rmse_xy_m < (unknown.robots[a].id == 4 ? 0.24 : 0.17));
+      CHECK(unknown.robots[a].error.rmse_xy_m < 0.20);
       // The team (the robots' sightings of each other shared) does better than each robot alone: measured 0.063-0.111
       // m against 0.077-0.188 m, the closest robot 1 of Dataset 1 (0.104 against 0.110 m).
       INFO("team " << team.robots[a].error.rmse_xy_m << " m");

@@ -612,3 +612,32 @@ TEST_CASE("after reopen_after gate refusals in a row the belief is widened and t
   for (float range : {r, r, r0, r, r}) again.correct(est::loop::LandmarkInput{0, range, range == r ? b : b0, 2.0f, 1});
   CHECK(again.reopenings() == 0u);
 }
+
+TEST_CASE("a gate re-opened in heading only corrects the heading the gate refused, not the position",
+          "[ekf_estimator]") {
+  // The robot is at (3, 1) as it believes, but heading 0.3 rad where it believes 0 within 0.01 rad (a turn the
+  // odometry under-reported): landmark 1 at (6, 0) is seen 0.3 rad off in bearing, gated. Widened by 0.3 rad alone
+  // (reopen_sigma_xy = 0), the sighting turns the heading and leaves the position; widened in position too, the
+  // same bearing innovation is shared with a lateral shift the robot never made.
+  const float r = std::hypot(3.0f, 1.0f), b = std::atan2(-1.0f, 3.0f) - 0.3f;
+  auto run = [&](float sigma_xy) {
+    auto c = diff_config();
+    c.reopen_after = 3;
+    c.reopen_sigma_xy = sigma_xy;
+    c.reopen_sigma_theta = 0.3f;
+    DiffEstimator ekf(c, kMap);
+    REQUIRE(ekf.initialize_at({3.0f, 1.0f, 0.0f}, 0.02f, 0.01f));
+    for (int k = 0; k < 2; ++k)
+      CHECK(ekf.correct(est::loop::LandmarkInput{k * kMs, r, b, 2.0f, 1}) == est::loop::StepOutcome::rejected);
+    CHECK(ekf.correct(est::loop::LandmarkInput{2 * kMs, r, b, 2.0f, 1}) == est::loop::StepOutcome::applied);
+    CHECK(ekf.reopenings() == 1u);
+    return ekf.estimate().mean;
+  };
+  const est::Pose2 heading_only = run(0.0f);
+  INFO("heading only: " << heading_only.x << ", " << heading_only.y << ", " << heading_only.theta);
+  CHECK(heading_only.theta == Approx(0.3f).margin(0.03f));
+  CHECK(std::hypot(heading_only.x - 3.0f, heading_only.y - 1.0f) < 0.01f);
+  const est::Pose2 both = run(1.0f);
+  INFO("position too: " << both.x << ", " << both.y << ", " << both.theta);
+  CHECK(std::hypot(both.x - 3.0f, both.y - 1.0f) > 0.1f);
+}

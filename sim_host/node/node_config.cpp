@@ -309,7 +309,7 @@ void add_options(CLI::App& app, NodeConfig& c) {
   app.add_option("--ekf-reopen-after", e.ekf_reopen_after,
                  "EKF: after this many consecutive gate refusals of known-correspondence features the covariance is "
                  "widened by --ekf-reopen-sigma-xy/-theta and the feature fused again (0: never)")->capture_default_str()->group(ekf);
-  app.add_option("--ekf-reopen-sigma-xy", e.ekf_reopen_sigma_xy, "EKF: position deviation added when the gate re-opens (m)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
+  app.add_option("--ekf-reopen-sigma-xy", e.ekf_reopen_sigma_xy, "EKF: position deviation added when the gate re-opens (m; 0: the heading's alone)")->capture_default_str()->check(CLI::NonNegativeNumber)->group(ekf);
   app.add_option("--ekf-reopen-sigma-theta", e.ekf_reopen_sigma_theta, "EKF: heading deviation added when the gate re-opens (rad)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
   app.add_option("--lost-sigma", e.lost_sigma_m, "EKF: position sigma above which the estimate is flagged degenerate (m)")->capture_default_str()->check(CLI::PositiveNumber)->group(ekf);
 
