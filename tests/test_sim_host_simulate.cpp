@@ -310,6 +310,24 @@ TEST_CASE("a tracking start is never lost and injects nothing while localized", 
   CHECK(r.metrics.phases[0].injected_share == 0.0);
 }
 
+TEST_CASE("the particle panels are at distinct times: times that meet share one panel", "[simulate]") {
+  // A 2 s run: its half-way is its 1 s snapshot; 3 s and 10 s are past its end. The initial belief is the panel
+  // before the first scan, at its time.
+  sim::ScenarioConfig sc = short_scenario(sim::RobotKind::bicycle, 5);
+  sc.duration_s = 2.0;
+  sc.faults = {};
+  sc.burst_at_s = -1.0;
+  sim::FilterOptions f = tracking_filter();
+  f.particles = 200;
+  const sim::SimResult r = sim::run_simulation(sc, f, sim::load_world(sc));
+  std::vector<std::string> labels;
+  for (std::size_t i = 0; i < r.snapshots.size(); ++i) {
+    labels.push_back(r.snapshots[i].label);
+    if (i > 1) CHECK(r.snapshots[i].t_ns > r.snapshots[i - 1].t_ns);
+  }
+  CHECK(labels == std::vector<std::string>{"initial belief", "first scan", "1 s, half-way", "end"});
+}
+
 TEST_CASE("the same seed gives the same CSV bytes, another seed does not", "[simulate]") {
   TempDir dir("repeat");
   std::string csv[3];

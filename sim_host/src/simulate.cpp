@@ -108,10 +108,13 @@ void run_stream(const ScenarioConfig& sc, const FilterOptions& fo, const SimWorl
         if (mcl) node::feed_particles(*view, *pipeline, e.stamp_ns);
       }
       if (mcl) {
+        // The times this output reaches: one panel, their labels joined (a 20 s run's 10 s is its half-way).
+        std::string label;
         while (*next_snap < snap_at->size() && e.stamp_ns >= (*snap_at)[*next_snap].first) {
-          r->snapshots.push_back(snapshot(*pipeline, e.stamp_ns, (*snap_at)[*next_snap].second, row.truth, row.estimate));
+          label += (label.empty() ? "" : ", ") + (*snap_at)[*next_snap].second;
           ++*next_snap;
         }
+        if (!label.empty()) r->snapshots.push_back(snapshot(*pipeline, e.stamp_ns, label, row.truth, row.estimate));
       }
     }
   } sink;
