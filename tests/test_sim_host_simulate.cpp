@@ -468,6 +468,12 @@ TEST_CASE("sim_host simulate runs from the command line, draws its figures and r
     REQUIRE(bytes.size() > 8u);
     CHECK(bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0);
   }
+  // The errors' legend names what the run has: a tracking run at a fixed particle count, no kidnapping, no outage.
+  const std::string errors_gp = slurp(out / "errors.gp");
+  CHECK(errors_gp.find("title 'localized from'") != std::string::npos);
+  CHECK(errors_gp.find("title 'particles (fixed)'") != std::string::npos);
+  for (const char* absent : {"title 'kidnapping'", "title 'lost at (kidnapping)'", "title 'bus outage'"})
+    CHECK(errors_gp.find(absent) == std::string::npos);
   CHECK(run("simulate --out '" + out.string() + "' --fault bogus.class=1") != 0);
   CHECK(run("simulate --out '" + out.string() + "' --robot diff-drive --fault steering.nan=1") != 0);
   CHECK(run("simulate --out '" + out.string() + "' --scan-hz 7") != 0);

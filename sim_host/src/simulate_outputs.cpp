@@ -245,11 +245,15 @@ void plot_errors(const SimResult& r, const ScenarioConfig& sc, const FilterOptio
      << robot_title(sc) << ")\" font 'Sans,14'\n";
   gp << "set xrange [0:" << end << "]\nset grid lc rgb '#dddddd'\n";
   gp << "set key outside right top vertical noenhanced\n";
-  // Event lines on every panel.
+  // Event lines on every panel; the legend names only the kinds the run has.
   std::ostringstream events;
   int obj = 1;
+  bool kidnap = false, burst = false, slip = false, localized = false, lost = false;
   for (const InjectedFault& x : r.stream.faults) {
     const double t = seconds(x.t_ns, t0);
+    kidnap = kidnap || x.key == "event.kidnap";
+    burst = burst || x.key == "event.burst";
+    slip = slip || x.key == "event.slip";
     if (x.key == "event.kidnap")
       events << "set arrow " << obj++ << " from " << t << ", graph 0 to " << t
              << ", graph 1 nohead lw 2 dt 2 lc rgb '#d62728'\n";
@@ -261,12 +265,15 @@ void plot_errors(const SimResult& r, const ScenarioConfig& sc, const FilterOptio
              << ", graph 1 fc rgb '#c5e0b4' fs solid 0.6 noborder behind\n";
   }
   for (const PhaseMetrics& p : r.metrics.phases) {
+    localized = localized || p.localized;
     if (p.localized)
       events << "set arrow " << obj++ << " from " << p.localized_at_s << ", graph 0 to " << p.localized_at_s
              << ", graph 1 nohead lw 1.5 lc rgb '#2ca02c'\n";
-    if (p.lost_at_s >= 0.0 && p.start_s > 0.0)  // a kidnapping's loss (a global start is lost from 0)
+    if (p.lost_at_s >= 0.0 && p.start_s > 0.0) {  // a kidnapping's loss (a global start is lost from 0)
+      lost = true;
       events << "set arrow " << obj++ << " from " << p.lost_at_s << ", graph 0 to " << p.lost_at_s
              << ", graph 1 nohead lw 1.5 dt 3 lc rgb '#7f7f7f'\n";
+    }
   }
   gp << events.str();
   gp << "set format x ''\n";
@@ -274,12 +281,13 @@ void plot_errors(const SimResult& r, const ScenarioConfig& sc, const FilterOptio
   gp << "plot 'errors.dat' using 1:2 with lines lw 1.5 lc rgb '#1f77b4' title 'position error', \\\n"
      << "  'errors.dat' using 1:5 with lines lw 1 dt 2 lc rgb '#9467bd' title 'estimated sigma xy', \\\n"
      << "  " << fo.converge_pos_m << " with lines lw 1 dt 3 lc rgb 'black' title 'localized bound "
-     << fo.converge_pos_m << " m', \\\n"
-     << "  NaN with lines lw 2 dt 2 lc rgb '#d62728' title 'kidnapping', \\\n"
-     << "  NaN with lines lw 1.5 lc rgb '#2ca02c' title 'localized from', \\\n"
-     << "  NaN with lines lw 1.5 dt 3 lc rgb '#7f7f7f' title 'lost at (kidnapping)', \\\n"
-     << "  NaN with boxes fs solid 0.6 fc rgb '#ffbb78' title 'bus outage', \\\n"
-     << "  NaN with boxes fs solid 0.6 fc rgb '#c5e0b4' title 'wheel slip'\n";
+     << fo.converge_pos_m << " m'";
+  if (kidnap) gp << ", \\\n  NaN with lines lw 2 dt 2 lc rgb '#d62728' title 'kidnapping'";
+  if (localized) gp << ", \\\n  NaN with lines lw 1.5 lc rgb '#2ca02c' title 'localized from'";
+  if (lost) gp << ", \\\n  NaN with lines lw 1.5 dt 3 lc rgb '#7f7f7f' title 'lost at (kidnapping)'";
+  if (burst) gp << ", \\\n  NaN with boxes fs solid 0.6 fc rgb '#ffbb78' title 'bus outage'";
+  if (slip) gp << ", \\\n  NaN with boxes fs solid 0.6 fc rgb '#c5e0b4' title 'wheel slip'";
+  gp << "\n";
   gp << "set ylabel 'heading error (deg)'\nset yrange [0.01:180]\n";
   gp << "plot 'errors.dat' using 1:3 with lines lw 1.5 lc rgb '#ff7f0e' title 'heading error', \\\n"
      << "  " << fo.converge_heading_deg << " with lines lw 1 dt 3 lc rgb 'black' title 'localized bound "
@@ -289,7 +297,8 @@ void plot_errors(const SimResult& r, const ScenarioConfig& sc, const FilterOptio
     gp << "plot 'errors.dat' using 1:6 with lines lw 1.5 lc rgb '#8c564b' title 'EKF heading sigma'\n";
   } else {
     gp << "set ylabel 'particles'\nset yrange [100:30000]\n";
-    gp << "plot 'errors.dat' using 1:4 with steps lw 1.5 lc rgb '#8c564b' title 'particles (KLD)'\n";
+    gp << "plot 'errors.dat' using 1:4 with steps lw 1.5 lc rgb '#8c564b' title '"
+       << (fo.kld ? "particles (KLD)" : "particles (fixed)") << "'\n";
   }
   gp << "unset logscale y\nset format x '%g'\nset xlabel 'time (s)'\nset yrange [-0.7:3.7]\n";
   gp << "set ytics ('encoders' 0, 'steering' 1, 'scans' 2, 'landmarks' 3)\nset ylabel 'injected faults'\n";
