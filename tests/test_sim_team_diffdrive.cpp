@@ -44,7 +44,8 @@ TEST_CASE("diffdrive-landmarks localizes all three robots and resolves which tag
   REQUIRE(run("--seed 2 --duration " + std::string(kDuration) + " --out '" + out.string() + "'",
               dir.path / "run.log") == 0);
   for (const char* f :
-       {"metrics.json", "trajectory.csv", "assignment_belief.png", "trajectory.png", "run.lcmlog", "run.lcmlog.json"})
+       {"metrics.json", "trajectory.csv", "assignment_belief.png", "assignment_belief.gp", "trajectory.png",
+        "trajectory.gp", "landmarks.dat", "run.lcmlog", "run.lcmlog.json"})
     CHECK(fs::exists(out / f));
   for (const char* png : {"assignment_belief.png", "trajectory.png"}) {
     const std::string bytes = slurp(out / png);

@@ -3,8 +3,8 @@
 // by the tag of the marker each carries, not by identity; which tag is which robot is a permutation drawn from the
 // seed (never the identity). Wheel-encoder ticks slip against the ground. The filter
 // (est/team/anonymous_team_mcl.hpp) starts from uniform clouds and a uniform belief over the 3! assignments. Writes
-// OUT/metrics.json, OUT/trajectory.csv, OUT/assignment_belief.png and OUT/trajectory.png (unless o.plots is false),
-// and prints a summary.
+// OUT/metrics.json, OUT/trajectory.csv, OUT/assignment_belief.png and OUT/trajectory.png with their gnuplot scripts
+// (unless o.plots is false), and prints a summary.
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -99,48 +99,60 @@ struct Row {
 
 double d(float x) { return static_cast<double>(x); }
 
-void plot_belief(const fs::path& out) {
-  sim::ScatterPlot p;
-  p.title = "diffdrive-landmarks: belief on the true tag assignment";
-  p.x_label = "t (s)";
-  p.y_label = "P(true assignment)";
-  p.csv_path = (out / "trajectory.csv").string();
-  p.x_column = 1;
-  p.y_column = 2 + 7 * kRobots;
-  p.points_label = "P(true assignment)";
-  p.equal_axes = false;
-  p.markers.push_back({0.0, 0.95, "0.95", 2, "red"});
-  sim::render_scatter_png(p, (out / "assignment_belief.png").string());
+// The belief on the true assignment over time: a time series against the 0.95 line, on [0, 1], the time it first
+// crossed marked.
+void plot_belief(const fs::path& out, double duration, double first_095) {
+  const fs::path gp_path = out / "assignment_belief.gp";
+  {
+    std::ofstream gp = open_out(gp_path);
+    gp << "# sim_host run diffdrive-landmarks: belief on the true tag assignment (gnuplot assignment_belief.gp here)\n"
+          "set terminal pngcairo size 1200,600 enhanced font 'Sans,11'\nset output 'assignment_belief.png'\n"
+          "set datafile separator ','\nset grid lc rgb 'gray85'\nset key outside right top vertical noenhanced\n"
+          "set title 'diffdrive-landmarks: belief on the true tag assignment (of the 3! tag-to-robot assignments)' "
+          "noenhanced\nset xlabel 't (s)'\nset ylabel 'P(true assignment)'\n"
+       << "set xrange [0:" << duration << "]\nset yrange [0:1.05]\n";
+    if (first_095 >= 0.0)
+      gp << "set arrow 1 from " << first_095 << ", graph 0 to " << first_095
+         << ", graph 1 nohead lw 1.5 lc rgb '#2ca02c'\n";
+    gp << "plot 'trajectory.csv' skip 1 using 1:" << 2 + 7 * kRobots
+       << " with steps lw 2 lc rgb '#3060c0' title 'P(true assignment)', "
+          "0.95 with lines lw 1 dt 2 lc rgb 'red' title '0.95', "
+          "NaN with lines lw 1.5 lc rgb '#2ca02c' title 'first above 0.95', "
+          "'-' using 1:2 with points pt 7 ps 1.5 lc rgb '#3060c0' title 'prior (uniform, 1/6)'\n"
+          "0," << 1.0 / 6.0 << "\ne\n";
+    if (!gp) throw std::runtime_error("error writing " + gp_path.string());
+  }
+  sim::run_gnuplot(gp_path, out / "assignment_belief.png");
 }
 
-void plot_trajectory(const fs::path& out, const std::vector<Row>& rows) {
-  // The estimates as the scatter, the true paths as segments (every 0.5 s), the landmarks as markers.
-  const fs::path csv = out / "trajectory_estimates.csv";
+// The true paths (wide, light) and the estimates while localized (narrow, dark, drawn over them), the landmarks.
+void plot_trajectory(const fs::path& out) {
   {
-    std::ofstream f = open_out(csv);
-    f << "est_x_m,est_y_m\n";
-    for (const Row& w : rows)
-      for (int r = 0; r < kRobots; ++r)
-        if (w.localized[r]) f << d(w.est[r].x) << "," << d(w.est[r].y) << "\n";
+    std::ofstream f = open_out(out / "landmarks.dat");
+    for (std::int32_t j = 0; j < kLandmarkCount; ++j) f << d(kLandmarks[j].x) << "," << d(kLandmarks[j].y) << "\n";
   }
-  sim::ScatterPlot p;
-  p.title = "diffdrive-landmarks: true paths and localized estimates";
-  p.x_label = "x (m)";
-  p.y_label = "y (m)";
-  p.csv_path = csv.string();
-  p.points_label = "estimates (localized)";
-  const char* colors[kRobots] = {"#d03030", "#30a030", "#a060c0"};
-  for (int r = 0; r < kRobots; ++r) {
-    for (std::size_t k = 5; k < rows.size(); k += 5) {
-      const est::Pose2& a = rows[k - 5].truth[r];
-      const est::Pose2& b = rows[k].truth[r];
-      p.segments.push_back({d(a.x), d(a.y), d(b.x), d(b.y), k == 5 ? "robot " + std::to_string(r) + " truth" : "",
-                            colors[r]});
+  const fs::path gp_path = out / "trajectory.gp";
+  {
+    std::ofstream gp = open_out(gp_path);
+    gp << "# sim_host run diffdrive-landmarks: true paths and estimates (gnuplot trajectory.gp here)\n"
+          "set terminal pngcairo size 1200,900 enhanced font 'Sans,11'\nset output 'trajectory.png'\n"
+          "set datafile separator ','\nset grid lc rgb 'gray85'\nset size ratio -1\n"
+          "set key outside right top vertical noenhanced\nset xlabel 'x (m)'\nset ylabel 'y (m)'\n"
+          "set title 'diffdrive-landmarks: true paths (wide) and estimates once localized (narrow)' noenhanced\n"
+          "plot ";
+    const char* light[kRobots] = {"#f0a0a0", "#a0d8a0", "#d0b0e8"};
+    const char* dark[kRobots] = {"#b01010", "#107010", "#6020a0"};
+    for (int r = 0; r < kRobots; ++r) {
+      const int c = 2 + 7 * r;  // truth x, y, theta, estimate x, y, theta, localized
+      gp << "'trajectory.csv' skip 1 using " << c << ":" << c + 1 << " with lines lw 5 lc rgb '" << light[r]
+         << "' title 'robot " << r << " truth', '' skip 1 using ($" << c + 6 << " > 0 ? $" << c + 3
+         << " : NaN):" << c + 4 << " with lines lw 1.2 lc rgb '" << dark[r] << "' title 'robot " << r
+         << " estimate', ";
     }
+    gp << "'landmarks.dat' using 1:2 with points pt 5 ps 1.5 lc rgb 'black' title 'landmarks'\n";
+    if (!gp) throw std::runtime_error("error writing " + gp_path.string());
   }
-  for (std::int32_t j = 0; j < kLandmarkCount; ++j)
-    p.markers.push_back({d(kLandmarks[j].x), d(kLandmarks[j].y), j == 0 ? "landmarks" : "", 5, "black"});
-  sim::render_scatter_png(p, (out / "trajectory.png").string());
+  sim::run_gnuplot(gp_path, out / "trajectory.png");
 }
 
 // One step to the view: each robot's truth and estimate (its cluster's covariance; robot 0's with the status), and
@@ -383,8 +395,8 @@ void run_diffdrive_landmarks(const TeamRunOptions& o) {
   }
   write_team_logs(out, "diffdrive-landmarks", {}, logged, nullptr);
   if (o.plots) {
-    plot_belief(out);
-    plot_trajectory(out, rows);
+    plot_belief(out, duration, first_095);
+    plot_trajectory(out);
   }
 
   std::printf("diffdrive-landmarks: seed %llu, %.0f s, true assignment h=%d (tag -> robot %d %d %d)\n",
