@@ -283,14 +283,16 @@ TEST_CASE("MRCLAM Datasets 1 and 2, full runs: EKF localization tracks every rob
   }
 }
 
-TEST_CASE("MRCLAM Dataset 2, first 100 s: MCL on the landmarks through estimator_node's pipeline tracks each robot",
+TEST_CASE("MRCLAM Dataset 2, full run: MCL on the landmarks through estimator_node's pipeline keeps every robot",
           "[mrclam][eval]") {
+  // 100 particles (the evaluation's 500 take 145 s): with MCL's rotation noise a4 = 5 (MrclamNoise::mcl_a4) every
+  // robot at 0.169-0.289 m, mean 0.207 m; with the shared a4 = 0.5 robot 4 is lost for 150 s after a turn in place
+  // the commands under-report by 0.7 rad (0.772 m, robot 5 0.384 m, mean 0.349 m). About 33 s.
   const std::string dir = test_support::dataset_or_skip("utias-mrclam/sampled-50hz/MRCLAM_Dataset2");
   MrclamEvalOptions o;
   o.out_dir = temp_dir("eval2");
-  o.max_seconds = 100.0;
   o.methods = {"dead-reckoning", "mcl-landmarks"};
-  o.particles = 500;
+  o.particles = 100;
   o.plots = false;
   o.quiet = true;
   const MrclamEval ev = eval_mrclam(dir, o);
@@ -300,10 +302,11 @@ TEST_CASE("MRCLAM Dataset 2, first 100 s: MCL on the landmarks through estimator
   for (std::size_t a = 0; a < 5; ++a) {
     INFO("robot " << mcl.robots[a].id << ": MCL " << mcl.robots[a].error.rmse_xy_m << " m, dead reckoning "
                   << dr.robots[a].error.rmse_xy_m << " m");
-    CHECK(mcl.robots[a].error.n > 3000u);
-    CHECK(mcl.robots[a].error.rmse_xy_m < 0.5);
+    CHECK(mcl.robots[a].error.n > 50000u);
+    CHECK(mcl.robots[a].error.rmse_xy_m < 0.35);
     dr_mean += dr.robots[a].error.rmse_xy_m / 5.0;
     mcl_mean += mcl.robots[a].error.rmse_xy_m / 5.0;
   }
+  CHECK(mcl_mean < 0.25);
   CHECK(mcl_mean < dr_mean);
 }

@@ -99,6 +99,7 @@ Trajectory run_node(const MrclamEval& ev, const MrclamRobotLog& r, const std::st
     s.mcl_landmarks = true;
     s.particles = o.particles;
     s.mcl.recovery = false;  // tracking from the true start: random particles in the open arena only compete
+    s.motion.velocity.a4 = o.noise.mcl_a4;
     s.seed = o.seed + static_cast<std::uint64_t>(r.subject);
   } else {
     s.filter = est::loop::Filter::ekf;
@@ -378,6 +379,7 @@ nlohmann::json to_json(const MrclamEval& ev) {
   const MrclamNoise& n = ev.options.noise;
   const nlohmann::json settings = {
       {"motion_noise_a", std::vector<float>(std::begin(n.a), std::end(n.a))},
+      {"mcl_a4", n.mcl_a4},
       {"rot_sigma_rad", n.rot_sigma},
       {"sigma_range_m", n.sigma_range},
       {"sigma_bearing_rad", n.sigma_bearing},
@@ -453,6 +455,11 @@ void add_mrclam_eval(CLI::App& eval) {
   auto a = std::make_shared<std::vector<float>>(std::begin(opts->noise.a), std::end(opts->noise.a));
   cmd->add_option("--motion-noise", *a, "the velocity model's a1..a6")->delimiter(',')->expected(6)
       ->default_str("0.5,0.05,0.3,0.5,0.01,0.01");
+  cmd->add_option("--mcl-rotation-noise", opts->noise.mcl_a4,
+                  "MCL's a4 (variance of w per w^2) in place of --motion-noise's: the book's noise, drawn at each "
+                  "prediction, spreads a turn's heading with the root of the step")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--ekf-rot-sigma", opts->noise.ekf_rot_sigma,
                   "the single-robot EKFs' heading noise per 10 ms prediction (rad; < 0: --rot-sigma)")
       ->capture_default_str();
