@@ -101,15 +101,22 @@ double d(float x) { return static_cast<double>(x); }
 
 // The belief on the true assignment over time: a time series against the 0.95 line, on [0, 1], the time it first
 // crossed marked.
+// A gnuplot script OUT/NAME.gp drawing OUT/NAME.png from the CSVs beside it: the common settings and the title.
+std::ofstream plot_script(const fs::path& out, const std::string& name, int height_px, const std::string& title) {
+  std::ofstream gp = open_out(out / (name + ".gp"));
+  gp << "# sim_host run diffdrive-landmarks (gnuplot " << name << ".gp in this folder)\n"
+     << "set terminal pngcairo size 1200," << height_px << " enhanced font 'Sans,11'\nset output '" << name
+     << ".png'\nset datafile separator ','\nset grid lc rgb 'gray85'\nset key outside right top vertical noenhanced\n"
+     << "set title '" << title << "' noenhanced\n";
+  return gp;
+}
+
 void plot_belief(const fs::path& out, double duration, double first_095) {
-  const fs::path gp_path = out / "assignment_belief.gp";
   {
-    std::ofstream gp = open_out(gp_path);
-    gp << "# sim_host run diffdrive-landmarks: belief on the true tag assignment (gnuplot assignment_belief.gp here)\n"
-          "set terminal pngcairo size 1200,600 enhanced font 'Sans,11'\nset output 'assignment_belief.png'\n"
-          "set datafile separator ','\nset grid lc rgb 'gray85'\nset key outside right top vertical noenhanced\n"
-          "set title 'diffdrive-landmarks: belief on the true tag assignment (of the 3! tag-to-robot assignments)' "
-          "noenhanced\nset xlabel 't (s)'\nset ylabel 'P(true assignment)'\n"
+    std::ofstream gp = plot_script(out, "assignment_belief", 600,
+                                   "diffdrive-landmarks: belief on the true tag assignment (of the 3! tag-to-robot "
+                                   "assignments)");
+    gp << "set xlabel 't (s)'\nset ylabel 'P(true assignment)'\n"
        << "set xrange [0:" << duration << "]\nset yrange [0:1.05]\n";
     if (first_095 >= 0.0)
       gp << "set arrow 1 from " << first_095 << ", graph 0 to " << first_095
@@ -120,9 +127,9 @@ void plot_belief(const fs::path& out, double duration, double first_095) {
           "NaN with lines lw 1.5 lc rgb '#2ca02c' title 'first above 0.95', "
           "'-' using 1:2 with points pt 7 ps 1.5 lc rgb '#3060c0' title 'prior (uniform, 1/6)'\n"
           "0," << 1.0 / 6.0 << "\ne\n";
-    if (!gp) throw std::runtime_error("error writing " + gp_path.string());
+    if (!gp) throw std::runtime_error("error writing assignment_belief.gp");
   }
-  sim::run_gnuplot(gp_path, out / "assignment_belief.png");
+  sim::run_gnuplot(out / "assignment_belief.gp", out / "assignment_belief.png");
 }
 
 // The true paths (wide, light) and the estimates while localized (narrow, dark, drawn over them), the landmarks.
@@ -131,15 +138,10 @@ void plot_trajectory(const fs::path& out) {
     std::ofstream f = open_out(out / "landmarks.dat");
     for (std::int32_t j = 0; j < kLandmarkCount; ++j) f << d(kLandmarks[j].x) << "," << d(kLandmarks[j].y) << "\n";
   }
-  const fs::path gp_path = out / "trajectory.gp";
   {
-    std::ofstream gp = open_out(gp_path);
-    gp << "# sim_host run diffdrive-landmarks: true paths and estimates (gnuplot trajectory.gp here)\n"
-          "set terminal pngcairo size 1200,900 enhanced font 'Sans,11'\nset output 'trajectory.png'\n"
-          "set datafile separator ','\nset grid lc rgb 'gray85'\nset size ratio -1\n"
-          "set key outside right top vertical noenhanced\nset xlabel 'x (m)'\nset ylabel 'y (m)'\n"
-          "set title 'diffdrive-landmarks: true paths (wide) and estimates once localized (narrow)' noenhanced\n"
-          "plot ";
+    std::ofstream gp = plot_script(out, "trajectory", 900,
+                                   "diffdrive-landmarks: true paths (wide) and estimates once localized (narrow)");
+    gp << "set size ratio -1\nset xlabel 'x (m)'\nset ylabel 'y (m)'\nplot ";
     const char* light[kRobots] = {"#f0a0a0", "#a0d8a0", "#d0b0e8"};
     const char* dark[kRobots] = {"#b01010", "#107010", "#6020a0"};
     for (int r = 0; r < kRobots; ++r) {
@@ -150,9 +152,9 @@ void plot_trajectory(const fs::path& out) {
          << " estimate', ";
     }
     gp << "'landmarks.dat' using 1:2 with points pt 5 ps 1.5 lc rgb 'black' title 'landmarks'\n";
-    if (!gp) throw std::runtime_error("error writing " + gp_path.string());
+    if (!gp) throw std::runtime_error("error writing trajectory.gp");
   }
-  sim::run_gnuplot(gp_path, out / "trajectory.png");
+  sim::run_gnuplot(out / "trajectory.gp", out / "trajectory.png");
 }
 
 // One step to the view: each robot's truth and estimate (its cluster's covariance; robot 0's with the status), and
