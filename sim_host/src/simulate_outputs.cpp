@@ -251,24 +251,28 @@ void plot_errors(const SimResult& r, const ScenarioConfig& sc, const FilterOptio
   bool kidnap = false, burst = false, slip = false, localized = false, lost = false;
   for (const InjectedFault& x : r.stream.faults) {
     const double t = seconds(x.t_ns, t0);
-    kidnap = kidnap || x.key == "event.kidnap";
-    burst = burst || x.key == "event.burst";
-    slip = slip || x.key == "event.slip";
-    if (x.key == "event.kidnap")
+    if (x.key == "event.kidnap") {
+      kidnap = true;
       events << "set arrow " << obj++ << " from " << t << ", graph 0 to " << t
              << ", graph 1 nohead lw 2 dt 2 lc rgb '#d62728'\n";
-    if (x.key == "event.burst")
+    }
+    if (x.key == "event.burst") {
+      burst = true;
       events << "set object " << obj++ << " rect from " << t << ", graph 0 to " << t + sc.burst_ms * 1e-3
              << ", graph 1 fc rgb '#ffbb78' fs solid 0.6 noborder behind\n";
-    if (x.key == "event.slip")
+    }
+    if (x.key == "event.slip") {
+      slip = true;
       events << "set object " << obj++ << " rect from " << t << ", graph 0 to " << t + sc.slip_duration_s
              << ", graph 1 fc rgb '#c5e0b4' fs solid 0.6 noborder behind\n";
+    }
   }
   for (const PhaseMetrics& p : r.metrics.phases) {
-    localized = localized || p.localized;
-    if (p.localized)
+    if (p.localized) {
+      localized = true;
       events << "set arrow " << obj++ << " from " << p.localized_at_s << ", graph 0 to " << p.localized_at_s
              << ", graph 1 nohead lw 1.5 lc rgb '#2ca02c'\n";
+    }
     if (p.lost_at_s >= 0.0 && p.start_s > 0.0) {  // a kidnapping's loss (a global start is lost from 0)
       lost = true;
       events << "set arrow " << obj++ << " from " << p.lost_at_s << ", graph 0 to " << p.lost_at_s

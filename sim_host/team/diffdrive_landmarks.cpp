@@ -99,8 +99,6 @@ struct Row {
 
 double d(float x) { return static_cast<double>(x); }
 
-// The belief on the true assignment over time: a time series against the 0.95 line, on [0, 1], the time it first
-// crossed marked.
 // A gnuplot script OUT/NAME.gp drawing OUT/NAME.png from the CSVs beside it: the common settings and the title.
 std::ofstream plot_script(const fs::path& out, const std::string& name, int height_px, const std::string& title) {
   std::ofstream gp = open_out(out / (name + ".gp"));
@@ -111,6 +109,8 @@ std::ofstream plot_script(const fs::path& out, const std::string& name, int heig
   return gp;
 }
 
+// The belief on the true assignment over time: a time series against the 0.95 line, on [0, 1], the time it first
+// crossed marked.
 void plot_belief(const fs::path& out, double duration, double first_095) {
   {
     std::ofstream gp = plot_script(out, "assignment_belief", 600,
