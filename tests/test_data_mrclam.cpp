@@ -5,8 +5,11 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 
 #include "data/mrclam.hpp"
@@ -30,6 +33,42 @@ const MrclamMethodResult& method(const MrclamEval& ev, const std::string& name) 
                                [&](const MrclamMethodResult& m) { return m.name == name; });
   REQUIRE(it != ev.methods.end());
   return *it;
+}
+
+// Position RMSE against Vicon of the robot's twists dead-reckoned (midpoint heading) from its true pose, restarted
+// from the true pose every `restart_s`.
+double drift_rmse(const MrclamRobotLog& r, double restart_s) {
+  const std::vector<MrclamTwist>& tw = r.twists;
+  REQUIRE(!tw.empty());
+  const std::int64_t restart_ns = static_cast<std::int64_t>(restart_s * 1e9);
+  std::size_t k = 0;
+  std::int64_t t = 0, next_restart = std::numeric_limits<std::int64_t>::min();
+  double x = 0.0, y = 0.0, th = 0.0, sq = 0.0;
+  std::size_t n = 0;
+  for (const TimedPose& g : r.truth) {
+    if (g.t_ns >= next_restart) {
+      x = g.x, y = g.y, th = g.theta, t = g.t_ns;
+      next_restart = g.t_ns + restart_ns;
+      continue;
+    }
+    while (t < g.t_ns) {  // the twist of [tw[k], tw[k + 1]) over [t, g.t_ns)
+      while (k + 1 < tw.size() && tw[k + 1].t_ns <= t) ++k;
+      if (tw[k].t_ns > t) {  // before the first twist: standing
+        t = std::min(g.t_ns, tw[k].t_ns);
+        continue;
+      }
+      const std::int64_t end = k + 1 < tw.size() ? std::min(g.t_ns, tw[k + 1].t_ns) : g.t_ns;
+      const double dt = static_cast<double>(end - t) * 1e-9;
+      x += tw[k].v * dt * std::cos(th + 0.5 * tw[k].w * dt);
+      y += tw[k].v * dt * std::sin(th + 0.5 * tw[k].w * dt);
+      th += tw[k].w * dt;
+      t = end;
+    }
+    sq += (g.x - x) * (g.x - x) + (g.y - y) * (g.y - y);
+    ++n;
+  }
+  REQUIRE(n > 0u);
+  return std::sqrt(sq / static_cast<double>(n));
 }
 
 }  // namespace
@@ -234,22 +273,55 @@ TEST_CASE("MRCLAM odometry calibration: the robots' motion follows their command
     INFO("robot " << r << ": v " << c.v[r] << ", w " << c.w[r] << ", lag " << c.lag_s[r] << " s");
     CHECK(c.lag_s[r] >= 0.18);
     CHECK(c.lag_s[r] <= 0.30);
-    CHECK(c.v[r] == Approx(0.9).margin(0.05));
-    CHECK(c.w[r] == Approx(0.88).margin(0.08));
+    CHECK(c.v[r] == Approx(0.91).margin(0.03));  // measured 0.910-0.932
+    CHECK(c.w[r] == Approx(0.96).margin(0.02));  // measured 0.950-0.971
   }
+  CHECK_THROWS_AS(fit_mrclam_odometry_scales(dir, 0.2), std::invalid_argument);
+}
+
+TEST_CASE("MRCLAM odometry calibration: fitted over 2 s windows on one dataset, it dead-reckons the other's stretches "
+          "between landmark sightings better than over 0.5 s windows",
+          "[mrclam]") {
+  // Dead reckoning restarted from Vicon every 30 s, Dataset 2 with Dataset 1's fit, position RMSE by robot: 0.120,
+  // 0.125, 0.122, 0.109, 0.114 m (2 s windows) against 0.120, 0.148, 0.129, 0.135, 0.148 m (0.5 s windows, which
+  // cut the robots' answer to each turn pulse short and scale w by 0.83-0.94 instead of 0.94-0.97).
+  const std::string fit_dir = test_support::dataset_or_skip("utias-mrclam/sampled-50hz/MRCLAM_Dataset1");
+  const std::string dir = test_support::dataset_or_skip("utias-mrclam/sampled-50hz/MRCLAM_Dataset2");
+  double mean[2] = {};
+  double per_robot[2][kMrclamRobots + 1] = {};
+  const double windows[2] = {0.5, 2.0};
+  for (int i = 0; i < 2; ++i) {
+    const MrclamOdometryScales c = fit_mrclam_odometry_scales(fit_dir, windows[i]);
+    MrclamImportOptions o;
+    for (int r = 1; r <= kMrclamRobots; ++r) o.scale_v[r] = c.v[r], o.scale_w[r] = c.w[r], o.lag_s[r] = c.lag_s[r];
+    const std::string log = (fs::path(temp_dir("drift")) / "d2.lcmlog").string();
+    ImportReport report(OnError::refuse, nullptr);
+    import_mrclam(dir, log, o, report);
+    for (const MrclamRobotLog& r : read_mrclam_log(log, o.robots)) {
+      per_robot[i][r.subject] = drift_rmse(r, 30.0);
+      mean[i] += per_robot[i][r.subject] / kMrclamRobots;
+    }
+  }
+  for (int r = 1; r <= kMrclamRobots; ++r) {
+    INFO("robot " << r << ": " << per_robot[1][r] << " m (2 s windows) against " << per_robot[0][r] << " m (0.5 s)");
+    CHECK(per_robot[1][r] > 0.05);  // the restarts leave a drift to measure
+    CHECK(per_robot[1][r] <= per_robot[0][r] + 0.002);
+  }
+  CHECK(mean[1] < mean[0] - 0.01);  // measured 0.118 against 0.136 m
 }
 
 TEST_CASE("MRCLAM Datasets 1 and 2, full runs: EKF localization tracks every robot, with or without the sensor's ids, "
           "and the team does better than each alone",
           "[mrclam][eval]") {
   // Full runs (1500 s and 1900 s) of the two EKFs, which take seconds: with the lag-calibrated odometry and the
-  // camera's range noise growing with the range, the known-correspondence means are 0.101 and 0.123 m (0.111 and
-  // 0.136 with a constant 0.2 m; 0.118 and 0.152 without the lag too), every robot but robot 4 at or under 0.118 m
-  // (robot 4: 0.128 and 0.188 m, its sightings up to 78 and 129 s apart). Unknown correspondence, each camera
-  // frame associated jointly (JCBB, 2 nats, the camera's range noise, no lone pairing with a runner-up above
-  // 0.3 m, the gate re-opened in heading only): means 0.108 and 0.123 m, every robot at or under 0.153 m but robot 4
-  // of Dataset 2 (0.194 m; 0.212 m when the reopening widened the position by 0.5 m too): the issue's target, no
-  // robot lost, each under 0.20 m, is checked as it stands. Without the lone pairing rule and with a constant 0.2 m
+  // camera's range noise growing with the range, the known-correspondence means are 0.096 and 0.115 m (0.111 and
+  // 0.136 with a constant 0.2 m; 0.118 and 0.152 without the lag too), every robot but robot 4 at or under 0.117 m
+  // (robot 4: 0.131 and 0.168 m, its sightings up to 78 and 129 s apart; 0.128 and 0.188 m with the odometry fitted
+  // over 0.5 s windows, which fails the 0.18 m bound). Unknown correspondence, each camera frame associated jointly
+  // (JCBB, 2 nats, the camera's range noise, no lone pairing with a runner-up above 0.3 m, the gate re-opened in
+  // heading only): means 0.108 and 0.117 m, every robot at or under 0.157 m but robot 4 of Dataset 2 (0.173 m; 0.194 m
+  // with the 0.5 s fit, 0.212 m when the reopening widened the position by 0.5 m too): the issue's target, no robot
+  // lost, each under 0.20 m, is checked as it stands. Without the lone pairing rule and with a constant 0.2 m
   // the means were 0.119 and 0.136 m (worst 0.161 and 0.220 m); one sighting at a time (table 7.3, 1 nat) 0.279 and
   // 0.240 m, worst 0.72 m (4.8 m with table 7.3's plain maximum).
   for (const char* name : {"MRCLAM_Dataset1", "MRCLAM_Dataset2"}) {
@@ -267,11 +339,12 @@ TEST_CASE("MRCLAM Datasets 1 and 2, full runs: EKF localization tracks every rob
     for (std::size_t a = 0; a < 5; ++a) {
       INFO(name << " robot " << ekf.robots[a].id << ": EKF " << ekf.robots[a].error.rmse_xy_m << " m / "
                 << ekf.robots[a].error.rmse_theta_rad << " rad, unknown " << unknown.robots[a].error.rmse_xy_m);
-      CHECK(ekf.robots[a].error.rmse_xy_m < (ekf.robots[a].id == 4 ? 0.20 : 0.125));
+      CHECK(ekf.robots[a].error.rmse_xy_m < (ekf.robots[a].id == 4 ? 0.18 : 0.125));
       CHECK(ekf.robots[a].error.rmse_theta_rad < 0.16);
       CHECK(unknown.robots[a].error.rmse_xy_m < 0.20);
-      // The team (the robots' sightings of each other shared) does better than each robot alone: measured 0.063-0.111
-      // m against 0.077-0.188 m, the closest robot 1 of Dataset 1 (0.104 against 0.110 m).
+      // The team (the robots' sightings of each other shared) does better than each robot alone: measured 0.060-0.099
+      // m against 0.073-0.168 m, the closest robot 3 of Dataset 1 (0.060 against 0.073 m). With the team's heading
+      // noise at 0.01 rad per step robot 2 of Dataset 2 fails it (0.10613 against 0.10613 m, 4e-6 m worse).
       INFO("team " << team.robots[a].error.rmse_xy_m << " m");
       CHECK(team.robots[a].error.rmse_xy_m < ekf.robots[a].error.rmse_xy_m);
       ekf_mean += ekf.robots[a].error.rmse_xy_m / 5.0;

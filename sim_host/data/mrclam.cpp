@@ -359,12 +359,18 @@ std::vector<MrclamRobotLog> read_mrclam_log(const std::string& path, const std::
   return out;
 }
 
-MrclamOdometryScales fit_mrclam_odometry_scales(const std::string& dir) {
+MrclamOdometryScales fit_mrclam_odometry_scales(const std::string& dir, double window_s) {
   MrclamOdometryScales out;
   ImportReport quiet(OnError::skip, nullptr);
   if (has_header((fs::path(dir) / "Robot1_Odometry.dat").string()))
     throw std::runtime_error(dir + ": the odometry calibration needs the sampled-50hz layout (rows on one grid)");
-  constexpr std::size_t kWindow = 25;   // 0.5 s: chords are arcs to well under a millimetre at these speeds
+  // Windows of 2 s by default (why: the header); the distance is summed over 0.5 s chords, arcs to well under a
+  // millimetre at these speeds.
+  constexpr std::size_t kChord = 25;    // 0.5 s, in rows
+  const long chords = std::lround(window_s / (kSampledStepS * static_cast<double>(kChord)));
+  if (chords < 1 || chords > 40)
+    throw std::invalid_argument("the odometry calibration's window must be 0.5 to 20 s in steps of 0.5 s");
+  const std::size_t window_rows = static_cast<std::size_t>(chords) * kChord;
   constexpr std::size_t kMaxLag = 25;   // 0.5 s, in rows
   for (int s = 1; s <= kMrclamRobots; ++s) {
     const std::string id = std::to_string(s);
@@ -373,15 +379,17 @@ MrclamOdometryScales fit_mrclam_odometry_scales(const std::string& dir) {
     const std::size_t n = std::min(gt.values.size(), od.values.size());
     double best_residual = std::numeric_limits<double>::infinity();
     for (std::size_t lag = 0; lag <= kMaxLag; ++lag) {
-      // The true increment over rows [k, k + kWindow) against the commands of the rows `lag` earlier.
+      // The true increment over rows [k, k + window_rows) against the commands of the rows `lag` earlier.
       double sw = 0.0, sww = 0.0, stt = 0.0, sv = 0.0, svv = 0.0;
-      for (std::size_t k = kMaxLag; k + kWindow < n; k += kWindow) {
+      for (std::size_t k = kMaxLag; k + window_rows < n; k += window_rows) {
         const auto& a = gt.values[k];
-        const auto& b = gt.values[k + kWindow];
-        const double dtheta = wrap_angle(b[3] - a[3]);
-        const double ds = std::hypot(b[1] - a[1], b[2] - a[2]);
+        const auto& b = gt.values[k + window_rows];
+        const double dtheta = wrap_angle(b[3] - a[3]);  // |turn| < pi in 2 s at the robots' rates
+        double ds = 0.0;
+        for (std::size_t c = k; c < k + window_rows; c += kChord)
+          ds += std::hypot(gt.values[c + kChord][1] - gt.values[c][1], gt.values[c + kChord][2] - gt.values[c][2]);
         double cv = 0.0, cw = 0.0;
-        for (std::size_t j = k - lag; j < k + kWindow - lag; ++j) {
+        for (std::size_t j = k - lag; j < k + window_rows - lag; ++j) {
           cv += od.values[j][1] * kSampledStepS;
           cw += od.values[j][2] * kSampledStepS;
         }

@@ -36,7 +36,12 @@ struct MrclamNoise {
   // 0.181 / 0.300 (0.718) m, 1.5 - / 0.253 (0.526), 3 0.160 / 0.207 (0.303), 5 0.162 / 0.213 (0.316), 10 0.164 /
   // 0.216 (0.313), 30 - / 0.231 (0.341): 5, inside the plateau from 3 to 10, away from its edge at 1.5.
   float mcl_a4 = 5.0f;
-  float rot_sigma = 0.01f;
+  // The team filters' heading noise per 10 ms prediction (and the single-robot EKFs' when ekf_rot_sigma < 0). With
+  // the odometry fitted over 2 s windows (mrclam.hpp), cooperative localization's means by it, Datasets 1 / 2:
+  // 0.01 0.084 / 0.088 m (robot 2 of Dataset 2 no better than alone, 0.106 m), 0.007 0.080 / 0.085, 0.005 0.078 /
+  // 0.083, 0.003 0.076 / 0.081, 0.002 0.076 / 0.080, 0.001 0.081 / 0.084 m: 0.003, the single-robot EKFs' own
+  // (2026-12-06).
+  float rot_sigma = 0.003f;
   float sigma_range = 0.2f;
   float sigma_bearing = 0.03f;
   // The filters that know what they see (the EKF with the known landmarks, the team's): the camera's range noise as
