@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 
@@ -224,7 +225,7 @@ TEST_CASE("MRCLAM Dataset 1, first 300 s: EKF localization within 0.13 m of Vico
   o.max_seconds = 300.0;
   o.methods = {"dead-reckoning", "ekf-known-landmarks", "ekf-unknown-correspondence", "cooperative-localization",
                "cooperative-ekf-slam"};
-  o.plots = false;
+  o.plots = true;
   o.quiet = true;
   const MrclamEval ev = eval_mrclam(dir, o);
   CHECK(ev.calibration_dir.find("MRCLAM_Dataset2") != std::string::npos);  // calibrated on the other dataset
@@ -262,6 +263,22 @@ TEST_CASE("MRCLAM Dataset 1, first 300 s: EKF localization within 0.13 m of Vico
   CHECK(j["settings"]["lone_pairing_sigma_m"].get<double>() == Approx(o.noise.lone_pairing_sigma_m));
   CHECK(j["settings"]["ambiguity_nats"].get<double>() == Approx(2.0));
   CHECK(j["settings"]["max_seconds"].get<double>() == Approx(o.max_seconds));
+  // The trajectories plot: a panel per robot and method, each robot's estimate over its own true path, its RMSE in
+  // the panel's title.
+  std::ifstream gp_file(fs::path(o.out_dir) / "trajectories.gp");
+  const std::string gp((std::istreambuf_iterator<char>(gp_file)), std::istreambuf_iterator<char>());
+  CHECK(gp.find("set multiplot layout 5,5") != std::string::npos);
+  std::size_t panels = 0;
+  for (std::size_t at = gp.find("\nplot "); at != std::string::npos; at = gp.find("\nplot ", at + 1)) ++panels;
+  CHECK(panels == 25u);
+  const std::string title = "ekf-known-landmarks\\nrobot 4: " + fixed(ekf.robots[3].error.rmse_xy_m, 3) + " m RMSE";
+  CHECK(gp.find(title) != std::string::npos);
+  CHECK(gp.find("'truth-robot4.csv' u 2:3 w l lc rgb 'gray70' lw 2, 'ekf-known-landmarks-robot4.csv'") !=
+        std::string::npos);
+  for (const char* png : {"trajectories.png", "errors.png"}) {
+    INFO(png);
+    CHECK(fs::file_size(fs::path(o.out_dir) / png) > 10000u);
+  }
 }
 
 TEST_CASE("MRCLAM odometry calibration: the robots' motion follows their commands by 0.2-0.3 s", "[mrclam]") {

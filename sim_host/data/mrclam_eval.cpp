@@ -251,21 +251,26 @@ void write_plots(const MrclamEval& ev, const std::vector<MrclamRobotLog>& robots
          << robots[a].truth[k].y << "\n";
   }
   const int n = static_cast<int>(ev.methods.size());
-  const int cols = n > 3 ? 3 : n, rows = (n + cols - 1) / cols;
   {
+    // One panel per robot (row) and method (column): a robot's estimate over its own true path, its RMSE in the
+    // title. (All five robots in one panel per method hid every path under the others.)
+    const int rows = static_cast<int>(robots.size());
     std::ofstream gp(d / "trajectories.gp");
-    gp << "set terminal pngcairo size " << 560 * cols << "," << 420 * rows << " font ',9'\nset output "
-       << "'trajectories.png'\nset multiplot layout " << rows << "," << cols
-       << " title 'MRCLAM: estimates (colour) against Vicon (grey), landmarks (black)'\nset size ratio -1\n"
-          "set key off\n";
-    for (const MrclamMethodResult& m : ev.methods) {
-      gp << "set title '" << m.name << "'\nplot ";
-      for (std::size_t a = 0; a < robots.size(); ++a) {
-        const std::string id = std::to_string(robots[a].subject);
-        gp << "'truth-robot" << id << ".csv' u 2:3 w l lc rgb 'gray70' lw 2, '" << m.name << "-robot" << id
-           << ".csv' u 2:3 w l lc rgb '" << colors[a % 5] << "' lw 1, ";
+    gp << "set terminal pngcairo size " << 300 * n << "," << 420 * rows << " font ',8'\nset output "
+       << "'trajectories.png'\nset multiplot layout " << rows << "," << n
+       << " title \"MRCLAM: each robot's estimate (colour) against Vicon (grey), landmarks (black); columns: "
+          "methods, rows: robots\"\nset size ratio -1\nset key off\n";
+    for (std::size_t a = 0; a < robots.size(); ++a) {
+      const std::string id = std::to_string(robots[a].subject);
+      for (const MrclamMethodResult& m : ev.methods) {
+        const auto r = std::find_if(m.robots.begin(), m.robots.end(),
+                                    [&](const MrclamRobotResult& x) { return x.id == robots[a].subject; });
+        gp << "set title \"" << m.name << "\\nrobot " << id;
+        if (r != m.robots.end() && r->error.n > 0) gp << ": " << fixed(r->error.rmse_xy_m, 3) << " m RMSE";
+        gp << "\"\nplot 'truth-robot" << id << ".csv' u 2:3 w l lc rgb 'gray70' lw 2, '" << m.name << "-robot" << id
+           << ".csv' u 2:3 w l lc rgb '" << colors[a % 5] << "' lw 1, 'landmarks.csv' u 1:2 w p pt 7 ps 0.6 lc rgb "
+           << "'black'\n";
       }
-      gp << "'landmarks.csv' u 1:2 w p pt 7 ps 1 lc rgb 'black'\n";
     }
     gp << "unset multiplot\n";
   }
