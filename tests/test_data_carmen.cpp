@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
+#include <sstream>
 #include <string>
 #include <unistd.h>
 #include <zlib.h>
@@ -163,7 +165,6 @@ const CarmenEval& intel_slice() {
     o.import.max_scans = 120;
     o.global_starts = 2;
     o.global_seconds = 150.0;
-    o.plots = false;
     o.quiet = true;
     return eval_carmen(log_of("intel"), o);
   }();
@@ -194,6 +195,22 @@ TEST_CASE("CARMEN intel: the grid built from the corrected poses has walls where
   CHECK(ev.map.endpoints_on_walls > 0.90);
   CHECK(fs::exists(ev.map.yaml));
   CHECK(fs::exists(ev.map.pgm));
+}
+
+TEST_CASE("CARMEN intel: the trajectories plot is framed on the map, not stretched by dead reckoning's drift",
+          "[carmen]") {
+  const CarmenEval& ev = intel_slice();
+  std::ifstream f(fs::path(ev.log_path).parent_path() / "trajectories.gp");
+  const std::string gp((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  std::ostringstream x, y;
+  x << "set xrange [" << ev.map.origin_x << ":" << ev.map.origin_x + ev.map.width * ev.map.resolution_m << "]";
+  y << "set yrange [" << ev.map.origin_y << ":" << ev.map.origin_y + ev.map.height * ev.map.resolution_m << "]";
+  CHECK(gp.find(x.str()) != std::string::npos);
+  CHECK(gp.find(y.str()) != std::string::npos);
+  for (const char* png : {"trajectories.png", "errors.png"}) {
+    INFO(png);
+    CHECK(fs::file_size(fs::path(ev.log_path).parent_path() / png) > 10000u);
+  }
 }
 
 TEST_CASE("CARMEN intel: MCL tracking on the raw odometry stays within 0.15 m of the corrected poses", "[carmen]") {

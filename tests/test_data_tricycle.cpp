@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "data/tricycle.hpp"
@@ -109,7 +110,6 @@ TEST_CASE("the calibrated tricycle odometry beats the header's guesses on the he
   const std::string file = dataset_file();
   TricycleEvalOptions o;
   o.out_dir = temp_dir("eval");
-  o.plots = false;
   o.quiet = true;
   const TricycleEval ev = eval_tricycle(file, o);
   REQUIRE(ev.fit_records == 1622u);  // the first two thirds fit
@@ -141,6 +141,22 @@ TEST_CASE("the calibrated tricycle odometry beats the header's guesses on the he
   CHECK(ev.node_vs_direct_rmse_m < 0.05);
   CHECK(ev.node_after.rmse_xy_m < 0.4);
   CHECK(ev.node_after.rmse_theta_rad < 0.1);
+  // The trajectories plot: each panel draws its own part of the tracked path (the whole path made the held-out
+  // odometry look as if it missed a loop it never drove).
+  std::ifstream gp_file(fs::path(o.out_dir) / "trajectories.gp");
+  const std::string gp((std::istreambuf_iterator<char>(gp_file)), std::istreambuf_iterator<char>());
+  CHECK(gp.find("set title 'held-out part'\nplot 'tracker-held-out.csv'") != std::string::npos);
+  CHECK(gp.find("set title 'fit part'\nplot 'tracker-fit.csv'") != std::string::npos);
+  std::size_t rows[2] = {};
+  const char* parts[2] = {"tracker-fit.csv", "tracker-held-out.csv"};
+  for (int i = 0; i < 2; ++i) {
+    std::ifstream f(fs::path(o.out_dir) / parts[i]);
+    std::string line;
+    while (std::getline(f, line)) ++rows[i];
+  }
+  CHECK(rows[0] == 1u + 1622u);  // the header and the part's records
+  CHECK(rows[1] == 1u + 812u);
+  CHECK(fs::file_size(fs::path(o.out_dir) / "trajectories.png") > 10000u);
 }
 
 TEST_CASE("a tricycle record whose time or pose a log cannot carry is skipped by reason", "[tricycle]") {

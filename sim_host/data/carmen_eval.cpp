@@ -198,9 +198,12 @@ void write_plots(const CarmenEval& ev, const CarmenLog& log, const std::vector<T
   const char* colors[] = {"#ff7f0e", "#1f77b4", "#2ca02c", "#d62728", "#9467bd"};
   {
     std::ofstream gp(d / "trajectories.gp");
+    // The frame is the map's: dead reckoning, tens of metres off, would otherwise shrink the map to a corner.
     gp << "set terminal pngcairo size 1100,1000 font ',10'\nset output 'trajectories.png'\nset size ratio -1\n"
           "set title 'CARMEN " << ev.import.site << ": estimates against the corrected poses over the map built from "
-          "them'\nset key outside bottom horizontal\nset xlabel 'x (m)'\nset ylabel 'y (m)'\n"
+          "them (framed on the map: dead reckoning leaves it)'\nset key outside bottom horizontal\nset xlabel 'x (m)'\n"
+          "set ylabel 'y (m)'\nset xrange [" << ev.map.origin_x << ":" << ev.map.origin_x + ev.map.width * ev.map.resolution_m
+       << "]\nset yrange [" << ev.map.origin_y << ":" << ev.map.origin_y + ev.map.height * ev.map.resolution_m << "]\n"
           "plot 'walls.csv' u 1:2 w dots lc rgb 'black' t 'map (occupied)', 'reference.csv' u 2:3 w l lw 2 lc rgb "
           "'gray60' t 'corrected (reference)'";
     for (std::size_t m = 0; m < methods.size(); ++m)

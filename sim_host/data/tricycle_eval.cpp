@@ -165,6 +165,16 @@ void write_plots(const TricycleEval& ev, const std::vector<TricycleRecord>& r, s
     for (const TricycleRecord& k : r)
       tr << static_cast<double>(k.t_ns) * 1e-9 << " " << k.tracker.x << " " << k.tracker.y << " " << k.tracker.theta
          << "\n";
+    // Each part's own stretch of the tracked path, for its panel (the whole path hid which part was which).
+    for (const auto& [part, from, to] : {std::tuple<const char*, std::size_t, std::size_t>{"fit", 0, split},
+                                         std::tuple<const char*, std::size_t, std::size_t>{"held-out", split,
+                                                                                           r.size()}}) {
+      std::ofstream f(d / ("tracker-" + std::string(part) + ".csv"));
+      f << "t x y theta\n";
+      for (std::size_t k = from; k < to && k < r.size(); ++k)
+        f << static_cast<double>(r[k].t_ns) * 1e-9 << " " << r[k].tracker.x << " " << r[k].tracker.y << " "
+          << r[k].tracker.theta << "\n";
+    }
   }
   const std::pair<const char*, const TricycleParams*> sets[] = {{"before", &ev.before}, {"after", &ev.after}};
   for (const auto& [name, p] : sets) {
@@ -188,7 +198,8 @@ void write_plots(const TricycleEval& ev, const std::vector<TricycleRecord>& r, s
           "title 'tricycle: sensor odometry (each part from its first tracked pose) against the tracker'\n"
           "set size ratio -1\nset key outside bottom\nset xlabel 'x (m)'\nset ylabel 'y (m)'\n";
     for (const char* part : {"fit", "held-out"}) {
-      gp << "set title '" << part << " part'\nplot 'tracker.csv' u 2:3 w l lc rgb 'gray60' lw 2 t 'tracker', 'before-"
+      gp << "set title '" << part << " part'\nplot 'tracker-" << part << ".csv' u 2:3 w l lc rgb 'gray60' lw 2 t "
+         << "'tracker', 'before-"
          << part << ".csv' u 2:3 w l lc rgb '#d62728' t 'header guesses', 'after-" << part
          << ".csv' u 2:3 w l lc rgb '#1f77b4' t 'calibrated'\n";
     }
