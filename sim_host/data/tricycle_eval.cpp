@@ -159,33 +159,27 @@ Fit levenberg_marquardt(const std::vector<TricycleRecord>& r, const std::vector<
 void write_plots(const TricycleEval& ev, const std::vector<TricycleRecord>& r, std::size_t split,
                  const std::string& dir) {
   const fs::path d(dir);
-  {
-    std::ofstream tr(d / "tracker.csv");
-    tr << "t x y theta\n";
-    for (const TricycleRecord& k : r)
-      tr << static_cast<double>(k.t_ns) * 1e-9 << " " << k.tracker.x << " " << k.tracker.y << " " << k.tracker.theta
-         << "\n";
+  struct Part {
+    const char* name;
+    std::size_t from, to;  // records [from, to)
+  };
+  const Part parts[] = {{"fit", 0, split}, {"held-out", split, r.size()}};
+  Trajectory tracker;
+  for (const TricycleRecord& k : r) tracker.push_back(k.tracker);
+  for (const Part& part : parts) {
     // Each part's own stretch of the tracked path, for its panel (the whole path hid which part was which).
-    for (const auto& [part, from, to] : {std::tuple<const char*, std::size_t, std::size_t>{"fit", 0, split},
-                                         std::tuple<const char*, std::size_t, std::size_t>{"held-out", split,
-                                                                                           r.size()}}) {
-      std::ofstream f(d / ("tracker-" + std::string(part) + ".csv"));
-      f << "t x y theta\n";
-      for (std::size_t k = from; k < to && k < r.size(); ++k)
-        f << static_cast<double>(r[k].t_ns) * 1e-9 << " " << r[k].tracker.x << " " << r[k].tracker.y << " "
-          << r[k].tracker.theta << "\n";
-    }
+    std::ofstream f(d / ("tracker-" + std::string(part.name) + ".csv"));
+    f << "t x y theta\n";
+    for (std::size_t k = part.from; k < part.to && k < r.size(); ++k)
+      f << static_cast<double>(r[k].t_ns) * 1e-9 << " " << r[k].tracker.x << " " << r[k].tracker.y << " "
+        << r[k].tracker.theta << "\n";
   }
   const std::pair<const char*, const TricycleParams*> sets[] = {{"before", &ev.before}, {"after", &ev.after}};
   for (const auto& [name, p] : sets) {
-    for (const auto& [part, from, to] : {std::tuple<const char*, std::size_t, std::size_t>{"fit", 0, split},
-                                         std::tuple<const char*, std::size_t, std::size_t>{"held-out", split,
-                                                                                           r.size()}}) {
-      Trajectory tr;
-      for (const TricycleRecord& k : r) tr.push_back(k.tracker);
-      const Trajectory odo = tricycle_odometry(r, *p, ev.import.header, from, to);
-      const auto errs = error_series(odo, tr, kMaxTrackerGapNs, 0);
-      std::ofstream f(d / (std::string(name) + "-" + part + ".csv"));
+    for (const Part& part : parts) {
+      const Trajectory odo = tricycle_odometry(r, *p, ev.import.header, part.from, part.to);
+      const auto errs = error_series(odo, tracker, kMaxTrackerGapNs, 0);
+      std::ofstream f(d / (std::string(name) + "-" + part.name + ".csv"));
       f << "t x y theta err_xy err_theta\n";
       for (std::size_t k = 0; k < odo.size() && k < errs.size(); ++k)
         f << static_cast<double>(odo[k].t_ns) * 1e-9 << " " << odo[k].x << " " << odo[k].y << " " << odo[k].theta
@@ -197,11 +191,10 @@ void write_plots(const TricycleEval& ev, const std::vector<TricycleRecord>& r, s
     gp << "set terminal pngcairo size 1400,600 font ',9'\nset output 'trajectories.png'\nset multiplot layout 1,2 "
           "title 'tricycle: sensor odometry (each part from its first tracked pose) against the tracker'\n"
           "set size ratio -1\nset key outside bottom\nset xlabel 'x (m)'\nset ylabel 'y (m)'\n";
-    for (const char* part : {"fit", "held-out"}) {
-      gp << "set title '" << part << " part'\nplot 'tracker-" << part << ".csv' u 2:3 w l lc rgb 'gray60' lw 2 t "
-         << "'tracker', 'before-"
-         << part << ".csv' u 2:3 w l lc rgb '#d62728' t 'header guesses', 'after-" << part
-         << ".csv' u 2:3 w l lc rgb '#1f77b4' t 'calibrated'\n";
+    for (const Part& part : parts) {
+      gp << "set title '" << part.name << " part'\nplot 'tracker-" << part.name << ".csv' u 2:3 w l lc rgb 'gray60' "
+         << "lw 2 t 'tracker', 'before-" << part.name << ".csv' u 2:3 w l lc rgb '#d62728' t 'header guesses', 'after-"
+         << part.name << ".csv' u 2:3 w l lc rgb '#1f77b4' t 'calibrated'\n";
     }
     gp << "unset multiplot\n";
   }
