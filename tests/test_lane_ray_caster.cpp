@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "caster_agreement.hpp"
 #include "datasets.hpp"
 #include "est/map/lane_ray_caster.hpp"
 #include "est/map/ray_casting.hpp"
@@ -24,43 +25,7 @@ est::OccupancyGridStorage<1024, 1024> g_grid;
 // Enough for the Intel map (888 x 848) at 64 headings (bench_sensor_models prints the figures).
 est::LaneRayCasterStorage<256, 200000, 12000000, 12000000> g_lanes;
 
-struct Agreement {
-  int rays = 0;
-  int identical = 0;       // the same float as GridRayCaster
-  int within_cell = 0;     // |lanes - exact| <= one cell
-  double worst = 0.0;      // m
-};
-
-// Random starts in free cells, random headings (continuous, so never a table heading), against the exact traversal.
-Agreement agreement(const est::OccupancyGrid& g, const est::LaneRayCaster& lanes, int rays, float max_range,
-                    std::uint64_t seed) {
-  const est::GridRayCaster exact(g);
-  est::Rng rng(seed);
-  struct Ray {
-    float x, y, dx, dy;
-  };
-  std::vector<Ray> rs;
-  while (static_cast<int>(rs.size()) < rays) {
-    const float x = g.origin_x() + rng.uniform(0.0f, static_cast<float>(g.width()) * g.resolution());
-    const float y = g.origin_y() + rng.uniform(0.0f, static_cast<float>(g.height()) * g.resolution());
-    const float th = rng.uniform(-est::kPi, est::kPi);
-    std::int32_t cx = 0, cy = 0;
-    if (!g.world_to_cell(x, y, cx, cy) || g.classify(cx, cy) != est::CellClass::free) continue;
-    rs.push_back({x, y, std::cos(th), std::sin(th)});
-  }
-  std::vector<float> a(rs.size()), e(rs.size());
-  for (std::size_t i = 0; i < rs.size(); ++i) a[i] = lanes.cast(rs[i].x, rs[i].y, rs[i].dx, rs[i].dy, max_range);
-  for (std::size_t i = 0; i < rs.size(); ++i) e[i] = exact.cast(rs[i].x, rs[i].y, rs[i].dx, rs[i].dy, max_range);
-  Agreement s;
-  s.rays = rays;
-  for (std::size_t i = 0; i < rs.size(); ++i) {
-    const double d = std::fabs(double(a[i]) - double(e[i]));
-    s.identical += a[i] == e[i] ? 1 : 0;
-    s.within_cell += d <= double(g.resolution()) ? 1 : 0;
-    s.worst = std::max(s.worst, d);
-  }
-  return s;
-}
+using test_support::Agreement;
 
 void print(const char* name, const Agreement& s, double build_ms, const est::LaneRayCasterBuffer& b) {
   std::printf("lane ray caster on %s: build %.0f ms, %u entries, %u lanes, %.1f MiB; %d rays: %d identical to the "
@@ -118,7 +83,8 @@ TEST_CASE("lane caster agrees with the exact traversal on the synthetic office",
   for (int bins : {16, 64, 256}) {
     const double ms = build(bins);
     for (float range : {2.0f, 20.0f}) {
-      const Agreement s = agreement(g_grid.grid(), g_lanes.view(), 20000, range, 7u + static_cast<unsigned>(bins));
+      const Agreement s =
+          test_support::random_rays(g_grid.grid(), g_lanes.view(), 20000, range, 7u + static_cast<unsigned>(bins));
       char name[96];
       std::snprintf(name, sizeof name, "the synthetic office (400 x 300 at 0.05 m), %d headings, %.0f m", bins,
                     static_cast<double>(range));
@@ -134,30 +100,11 @@ TEST_CASE("lane caster agrees with the exact traversal at cell centres and along
   // Rays through cell corners (45 deg from centres) and along grid lines, where the traversal breaks ties.
   est::sim::make_office_map(g_grid);
   build(64);
-  const est::OccupancyGrid g = g_grid.grid();
-  const est::GridRayCaster exact(g);
-  const est::LaneRayCaster lanes = g_lanes.view();
-  int rays = 0, identical = 0;
-  double worst = 0.0;
-  for (std::int32_t cy = 1; cy < g.height(); cy += 7) {
-    for (std::int32_t cx = 1; cx < g.width(); cx += 7) {
-      if (g.classify(cx, cy) != est::CellClass::free) continue;
-      for (int k = 0; k < 8; ++k) {
-        const float a = static_cast<float>(k) * est::kPi / 4.0f;
-        const float dx = k % 2 == 0 ? std::round(std::cos(a)) : std::cos(a);
-        const float dy = k % 2 == 0 ? std::round(std::sin(a)) : std::sin(a);
-        const float x = g.cell_center_x(cx), y = g.cell_center_y(cy);
-        const float r = lanes.cast(x, y, dx, dy, 20.0f), e = exact.cast(x, y, dx, dy, 20.0f);
-        ++rays;
-        identical += r == e ? 1 : 0;
-        worst = std::max(worst, std::fabs(double(r) - double(e)));
-      }
-    }
-  }
-  std::printf("lane ray caster, %d rays from cell centres at multiples of 45 deg: %d identical, worst %.3f m\n", rays,
-              identical, worst);
-  CHECK(identical >= rays * 999 / 1000);
-  CHECK(worst <= 0.05 + 1e-6);
+  const Agreement s = test_support::centre_rays(g_grid.grid(), g_lanes.view(), 20.0f);
+  std::printf("lane ray caster, %d rays from cell centres at multiples of 45 deg: %d identical, worst %.3f m\n",
+              s.rays, s.identical, s.worst);
+  CHECK(s.identical >= s.rays * 999 / 1000);
+  CHECK(s.worst <= 0.05 + 1e-6);
 }
 
 TEST_CASE("lane caster agrees with the exact traversal on the Intel map", "[lane_ray_caster][dataset]") {
@@ -167,7 +114,8 @@ TEST_CASE("lane caster agrees with the exact traversal on the Intel map", "[lane
   for (int bins : {64, 128}) {
     const double ms = build(bins);
     for (float range : {5.0f, 30.0f}) {
-      const Agreement s = agreement(g_grid.grid(), g_lanes.view(), 20000, range, 13u + static_cast<unsigned>(bins));
+      const Agreement s =
+          test_support::random_rays(g_grid.grid(), g_lanes.view(), 20000, range, 13u + static_cast<unsigned>(bins));
       char name[96];
       std::snprintf(name, sizeof name, "the Intel map (888 x 848 at 0.05 m), %d headings, %.0f m", bins,
                     static_cast<double>(range));

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "est/map/cone_ray_caster.hpp"
 #include "est/map/distance_transform.hpp"
 #include "est/map/lane_ray_caster.hpp"
 #include "est/map/ray_casting.hpp"
@@ -43,6 +44,11 @@ constexpr std::int32_t kLaneBins = 64;
 est::LaneRayCasterStorage<256, 300000, 12000000, 12000000> g_lanes;
 double g_lanes_build_ms = 0.0;
 est::BeamBearingsStorage<360> g_bearings;
+// The cone caster (exact, cone_ray_caster.hpp): one byte per cell and heading.
+constexpr std::int32_t kConeBins = 64;
+est::ConeRayCasterStorage<64, 888, 848> g_cone;
+double g_cone_build_ms = 0.0;
+est::BeamBearingsStorage<360> g_cone_bearings;
 est::BeamReadingsStorage<360> g_readings;
 
 struct Ray {
@@ -83,6 +89,9 @@ void setup() {
   const auto t0 = std::chrono::steady_clock::now();
   if (g_lanes.build(g_grid.grid(), kLaneBins) != est::LaneRayCasterStatus::ok) std::printf("lane caster build FAILED\n");
   g_lanes_build_ms = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto t1 = std::chrono::steady_clock::now();
+  if (g_cone.build(g_grid.grid(), kConeBins) != est::ConeRayCasterStatus::ok) std::printf("cone caster build FAILED\n");
+  g_cone_build_ms = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   est::Rng rng(1u);
   while (g_rays.size() < 8192) {
     float x = 0.0f, y = 0.0f;
@@ -108,6 +117,7 @@ void setup() {
   bp.range_max = 30.0f;
   g_beam.configure(bp);
   g_bearings.prepare(g_scan.beams(), kLaneBins);
+  g_cone_bearings.prepare(g_scan.beams(), kConeBins);
   g_readings.prepare(g_scan.beams(), g_beam);
   est::LikelihoodFieldParams lp;
   lp.range_max = 30.0f;
@@ -130,6 +140,8 @@ void BM_RayCastDistanceTransform(benchmark::State& state) {
   cast_rays(state, est::DistanceTransformRayCaster(g_grid.grid(), g_edt.view()));
 }
 void BM_RayCastLanes(benchmark::State& state) { cast_rays(state, g_lanes.view()); }
+void BM_RayCastCone(benchmark::State& state) { cast_rays(state, g_cone.view()); }
+BENCHMARK(BM_RayCastCone)->Arg(5)->Arg(10)->Arg(30);
 BENCHMARK(BM_RayCastExact)->Arg(5)->Arg(10)->Arg(30);
 BENCHMARK(BM_RayCastDistanceTransform)->Arg(5)->Arg(10)->Arg(30);
 BENCHMARK(BM_RayCastLanes)->Arg(5)->Arg(10)->Arg(30);
@@ -168,6 +180,17 @@ void BM_BeamModelLanes(benchmark::State& state) {
 BENCHMARK(BM_BeamModelExactCaster);
 BENCHMARK(BM_BeamModelDistanceTransformCaster);
 BENCHMARK(BM_BeamModelLanes);
+void BM_BeamModelCone(benchmark::State& state) {
+  const est::ScanBeams b = g_scan.beams();
+  const est::ConeRayCaster cone = g_cone.view();
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(est::beam_range_finder_model_over_bins(b, g_cone_bearings.view(), g_readings.view(),
+                                                                    g_particles[i++ % 1000], {}, cone, g_beam));
+  }
+  state.SetItemsProcessed(state.iterations() * b.count);
+}
+BENCHMARK(BM_BeamModelCone);
 
 void BM_BeamModelDensityOnly(benchmark::State& state) {
   float z = 0.0f;
@@ -204,6 +227,22 @@ int main(int argc, char** argv) {
   std::printf("memory: lane caster, %d headings: %u entries, %u lanes = %u bytes used (%.1f MiB), built in %.0f ms\n",
               kLaneBins, g_lanes.entries(), g_lanes.lanes(), g_lanes.bytes_used(),
               static_cast<double>(g_lanes.bytes_used()) / 1048576.0, g_lanes_build_ms);
+  {
+    const est::GridRayCaster exact(g_grid.grid());
+    const est::ConeRayCaster cone = g_cone.view();
+    int same = 0, within = 0, n = 0;
+    float worst = 0.0f;
+    for (const Ray& r : g_rays) {
+      const float a = exact.cast(r.x, r.y, r.dx, r.dy, 30.0f), c = cone.cast(r.x, r.y, r.dx, r.dy, 30.0f);
+      ++n;
+      same += a == c;
+      within += std::fabs(a - c) <= 0.05f;
+      worst = std::fmax(worst, std::fabs(a - c));
+    }
+    std::printf("cone caster, %d headings: %.1f MiB, built in %.0f ms; %d of %d rays the same float, %d within a cell, worst %.3f m\n",
+                kConeBins, static_cast<double>(g_cone.bytes_used()) / 1048576.0, g_cone_build_ms, same, n, within,
+                static_cast<double>(worst));
+  }
   std::printf("memory: prepared scan <360> %zu bytes, beam model %zu bytes\n", sizeof(est::PreparedScan<360>),
               sizeof(est::BeamRangeFinderModel));
   std::printf("scan: %d beams kept, %d max readings; items below are rays (casters) or particle-beams (models)\n",

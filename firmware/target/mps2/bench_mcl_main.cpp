@@ -9,12 +9,14 @@
 
 #include "est/filter/augmented_mcl.hpp"
 #include "est/filter/free_space_sampler.hpp"
+#include "est/map/cone_ray_caster.hpp"
 #include "est/map/distance_transform.hpp"
 #include "est/map/lane_ray_caster.hpp"
 #include "est/map/ray_casting.hpp"
 #include "est/motion/bicycle_model.hpp"
 #include "est/motion/motion_batch.hpp"
 #include "est/sensor/beam_range_finder_model.hpp"
+#include "est/sensor/beam_range_finder_model_cone.hpp"
 #include "est/sensor/beam_range_finder_model_lanes.hpp"
 #include "est/sensor/likelihood_field_grid.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
@@ -39,6 +41,10 @@ est::AugmentedMcl<kN> g_mcl(est::MclConfig{}, 0u);
 constexpr std::int32_t kLaneBins = 32;
 est::LaneRayCasterStorage<kLaneBins, 6000, 40000, 26000> g_lanes;
 est::BeamBearingsStorage<kK> g_bearings;
+// The beam model's exact cone caster: 16 headings, one byte per cell and heading (307 KB here, 77 KB build scratch).
+constexpr std::int32_t kConeBins = 16;
+est::ConeRayCasterStorage<kConeBins, 160, 120> g_cone;
+est::BeamBearingsStorage<kK> g_cone_bearings;
 est::BeamReadingsStorage<kK> g_readings;
 volatile float g_lanes_sink = 0.0f;
 
@@ -87,6 +93,8 @@ int main() {
   const est::DistanceTransformRayCaster caster(grid, g_edt.view());
   const bool lanes_ok = g_lanes.build(grid, kLaneBins, 64) == est::LaneRayCasterStatus::ok;
   const est::LaneRayCaster lanes = g_lanes.view();
+  const bool cone_ok = g_cone.build(grid, kConeBins) == est::ConeRayCasterStatus::ok;
+  const est::ConeRayCaster cone = g_cone.view();
   const est::FreeSpaceSampler free_space(grid, g_edt.view(), 0.2f);
   const est::LikelihoodFieldGrid field = g_field_grid.view();
 
@@ -107,7 +115,8 @@ int main() {
   g_mcl.initialize_gaussian(truth, 0.3f, 0.1f, kN);
 
   Phase predict{"predict"}, predict_batch{"predict_batch"}, lf{"correct_lf"}, lf_scalar{"correct_lf_scalar"},
-      bm{"correct_beam"}, bm_lanes{"correct_beam_lanes"}, resample{"resample"};
+      bm{"correct_beam"}, bm_lanes{"correct_beam_lanes"},
+      bm_cone{"correct_beam_cone"}, resample{"resample"};
   for (int t = 0; t < kSteps; ++t) {
     truth = est::BicycleMotionModel::sample(truth, u, noise, world);
     float ranges[kK];
@@ -146,6 +155,17 @@ int main() {
                                                                    mount, lanes, beam);
     }
     bm_lanes.instructions += board::instruction_counter_read();
+    // And with the exact cone caster (the same z*).
+    board::instruction_counter_start();
+    g_cone_bearings.prepare(z, kConeBins);
+    g_readings.prepare(z, beam);
+    {
+      const est::ConstParticleSetView p = g_mcl.particles();
+      for (std::uint32_t i = 0; i < p.count; ++i)
+        g_lanes_sink = g_lanes_sink + est::beam_range_finder_model(z, g_cone_bearings.view(), g_readings.view(),
+                                                                   p.pose(i), mount, cone, beam);
+    }
+    bm_cone.instructions += board::instruction_counter_read();
     board::instruction_counter_start();
     g_mcl.correct([&](const est::Pose2& x) { return est::likelihood_field_range_finder_model(z, x, mount, g_field); });
     lf_scalar.instructions += board::instruction_counter_read();
@@ -167,6 +187,7 @@ int main() {
   print_phase(lf_scalar, pb);
   print_phase(bm, pb);
   print_phase(bm_lanes, pb);
+  print_phase(bm_cone, pb);
   print_phase(resample, kN);
   board::write("\nbench-mcl " EST_BOARD_NAME " MCL step (predict + likelihood field + resample): ");
   board::write_dec((predict.instructions + lf.instructions + resample.instructions) / kSteps);
@@ -180,6 +201,7 @@ int main() {
   board::report_budget("bench.mcl.likelihood_field", lf.instructions / kSteps, "instructions");
   board::report_budget("bench.mcl.beam_model", bm.instructions / kSteps, "instructions");
   board::report_budget("bench.mcl.beam_model_lanes", bm_lanes.instructions / kSteps, "instructions");
+  board::report_budget("bench.mcl.beam_model_cone", bm_cone.instructions / kSteps, "instructions");
   board::report_budget("bench.mcl.resample", resample.instructions / kSteps, "instructions");
   board::report_budget("bench.mcl.step",
                        (predict_batch.instructions + lf.instructions + resample.instructions) / kSteps, "instructions");
@@ -198,5 +220,6 @@ int main() {
   const bool tracking = dx * dx + dy * dy < 0.25f;  // a sanity check that the counted work is real filtering
   board::write(tracking ? "bench-mcl estimate within 0.5 m of the truth\n" : "bench-mcl FAIL estimate lost\n");
   if (!lanes_ok) board::write("bench-mcl FAIL lane caster build\n");
-  return tracking && calibrated && lanes_ok ? 0 : 1;
+  if (!cone_ok) board::write("bench-mcl FAIL cone caster build\n");
+  return tracking && calibrated && lanes_ok && cone_ok ? 0 : 1;
 }

@@ -1,0 +1,374 @@
+#pragma once
+// Exact ray casting by a directional distance table, for the beam model's z* (Thrun table 6.1, line 3): the answer
+// of GridRayCaster (ray_casting.hpp), found by a few jumps instead of a walk.
+//
+// A directional distance transform (RangeLibc's DDT, Walsh and Karaman 2018) stores for each of T headings and each
+// cell the distance to the first obstacle along that heading; read at a ray's own position and heading it would be
+// approximate (the heading is quantized, the cell is wider than a ray). Here each entry is instead a distance that
+// no ray can beat: for heading bin b and cell c, a lower bound on the path from any point of c's square, at any
+// heading within 1.25 bins' halves of b (a cone), to the first occupied cell it enters. A ray of that bin jumps by
+// it without passing an obstacle, reads the entry of the cell it lands in, and so on; where the bound is under one
+// cell it takes one exact step of the traversal instead. The traversal's crossings are computed from the cell index
+// and the ray's start (GridRay::step()), as after a jump of DistanceTransformRayCaster, so the range returned is
+// GridRayCaster's float, except where a jump lands within float rounding of a cell corner.
+//
+// The bound, for a bin whose headings all have cos > 0 (x-dominant, the other three cases by symmetry): a ray from
+// (x0, y0) in [cx, cx + 1] x [cy, cy + 1] reaches column cx + i after a horizontal run of at least i - 1 cells, so
+// its path is at least (i - 1) / max|cos| over the cone; within column cx + i its run is in [max(0, i - 1), i + 1],
+// so its y lies in [cy + run m_lo, cy + 1 + run m_hi] (m the slope over the cone): a fixed range of rows relative
+// to cy. The entry is the smallest bound over the first k + 1 columns whose rows hold an occupied cell (a prefix
+// count per column), and beyond them k / max|cos| plus the smallest entry of the cells in column cx + k + 1 the cone
+// enters it through (the same bound, from their squares). Stored per cell as one byte: 0 occupied, 1 a free cell
+// whose bound is under one cell (take a step), e >= 2 a jump of e - 1 cells less 1/64 (float rounding); 255 also
+// for bounds of 254 cells or more and for cones that leave the map without an obstacle.
+//
+// Conventions are GridRayCaster's: unknown cells are free; a start in an occupied cell, outside the map or
+// non-finite returns 0; no hit before max_range or the map's edge returns max_range.
+// Memory: T bytes per cell (Intel map 888 x 848 at T = 64: 48.2 MB; the board's room 160 x 120 at T = 16: 307 KB),
+// plus T x 8 bytes of headings; the build's scratch, 2 bytes per cell and line for two prefix counts.
+// Cost: a handful of jumps and steps per ray (bench_sensor_models; tests/test_cone_ray_caster.cpp prints the
+// accuracy against GridRayCaster). Every loop is bounded: a jump advances the ray by at least 63/64 cell and a step
+// moves it one cell, so a cast ends within 3 (W + H) + 8 iterations.
+// Build: for each heading, (k + 2) prefix-count reads per cell (k = 16); meant for start-up or the host.
+#include <cstdint>
+
+#include "est/map/occupancy_grid.hpp"
+#include "est/map/ray_casting.hpp"
+#include "est/math/fmath.hpp"
+
+namespace est {
+
+enum class ConeRayCasterStatus : std::uint8_t {
+  ok = 0,
+  bad_grid,   // empty or invalid grid, or larger than the storage
+  bad_bins,   // T is not a power of two in [8, the storage's T]
+};
+
+// Read-only view over a built table.
+class ConeRayCaster {
+ public:
+  struct Tables {
+    const float* cos_b = nullptr;          // [T] cos of heading b
+    const float* sin_b = nullptr;          // [T]
+    const std::uint8_t* entry = nullptr;   // [T][H][W]
+    std::int32_t bins = 0;
+    float min_cos_gap = 1.0f;  // cos of 1.2 bins' halves: a heading further from the ray's is replaced by the ray's
+  };
+
+  ConeRayCaster() = default;
+  ConeRayCaster(const OccupancyGrid& grid, const Tables& t)
+      : grid_(grid), t_(t), mask_(static_cast<std::uint32_t>(t.bins - 1)),
+        bins_per_rad_(static_cast<float>(t.bins) / kTwoPi),
+        cells_(static_cast<std::uint32_t>(grid.width()) * static_cast<std::uint32_t>(grid.height())) {}
+
+  bool valid() const { return grid_.valid() && t_.bins > 0 && t_.entry != nullptr; }
+  const OccupancyGrid& grid() const { return grid_; }
+  std::int32_t bins() const { return t_.bins; }
+  float bins_per_rad() const { return bins_per_rad_; }
+
+  // The caster interface of GridRayCaster ((dx, dy) a unit vector): one atan2 to pick the heading.
+  float cast(float x, float y, float dx, float dy, float max_range) const {
+    if (!fmath::isfinite(dx) || !fmath::isfinite(dy)) return 0.0f;
+    return cast_from(origin(x, y), dx, dy, fmath::atan2(dy, dx) * bins_per_rad_, max_range);
+  }
+
+  // The stored bound of heading bin b at cell (cx, cy), in cells: no ray from the cell's square at a heading within
+  // 1.25 bins' halves of b enters an occupied cell before it. -1 for an occupied cell or arguments off the table.
+  std::int32_t bound_cells(std::int32_t b, std::int32_t cx, std::int32_t cy) const {
+    if (!valid() || b < 0 || b >= t_.bins || !grid_.contains(cx, cy)) return -1;
+    const std::uint32_t e = t_.entry[static_cast<std::uint32_t>(b) * cells_ +
+                                     static_cast<std::uint32_t>(cy * grid_.width() + cx)];
+    return static_cast<std::int32_t>(e) - 1;
+  }
+
+  // A start shared by many rays (the beam model's sensor position): its cell, found once, and whether rays from it
+  // are walked at all (inside the map, not in an occupied cell: otherwise every cast from it returns 0).
+  struct Origin {
+    detail::GridRay ray{};
+    bool walk = false;
+  };
+  Origin origin(float x, float y) const {
+    Origin o;
+    o.walk = o.ray.start(grid_, x, y) && !grid_.is_occupied_value(grid_.at(o.ray.ix, o.ray.iy));
+    return o;
+  }
+
+  // heading_bins: the ray's heading in bins (heading * bins_per_rad()), any value within +-2^20; (dx, dy) its unit
+  // vector. A heading more than 1.2 bins' halves from the ray's is not trusted: the ray's own is taken (an atan2).
+  float cast_from(const Origin& o, float dx, float dy, float heading_bins, float max_range) const {
+    if (!o.walk) return 0.0f;
+    detail::GridRay r = o.ray;
+    if (!r.aim(grid_, dx, dy, max_range)) return 0.0f;
+    const float f = heading_bins + 0.5f + 1048576.0f;
+    std::uint32_t b = (f >= 0.0f && f < 2097152.0f) ? static_cast<std::uint32_t>(f) & mask_ : 0u;
+    if (!(t_.cos_b[b] * dx + t_.sin_b[b] * dy >= t_.min_cos_gap))
+      b = static_cast<std::uint32_t>(fmath::atan2(dy, dx) * bins_per_rad_ + 0.5f + 1048576.0f) & mask_;
+    const std::uint8_t* q = t_.entry + b * cells_;
+    const std::int32_t w = grid_.width(), h = grid_.height();
+    const float fw = static_cast<float>(w), fh = static_cast<float>(h);
+    std::uint32_t e = q[r.iy * w + r.ix];
+    float t = 0.0f;
+    const std::int32_t bound = 3 * (w + h) + 8;
+    for (std::int32_t n = 0; n < bound; ++n) {
+      if (e >= 2u) {
+        t += static_cast<float>(e) - (1.0f + 1.0f / 64.0f);
+        if (!(t < r.t_max)) return max_range;
+        const float px = r.gx + t * r.dx;
+        const float py = r.gy + t * r.dy;
+        if (!(px >= 0.0f && py >= 0.0f && px < fw && py < fh)) return max_range;
+        r.ix = static_cast<std::int32_t>(px);
+        r.iy = static_cast<std::int32_t>(py);
+        if (r.ix >= w) r.ix = w - 1;
+        if (r.iy >= h) r.iy = h - 1;
+      } else {
+        t = r.step();
+        if (!(t < r.t_max) || !grid_.contains(r.ix, r.iy)) return max_range;
+      }
+      e = q[r.iy * w + r.ix];
+      if (e == 0u) return detail::cells_to_range(t, grid_.resolution(), max_range);
+    }
+    return max_range;
+  }
+
+ private:
+  OccupancyGrid grid_{};
+  Tables t_{};
+  std::uint32_t mask_ = 0;
+  float bins_per_rad_ = 0.0f;
+  std::uint32_t cells_ = 0;
+};
+
+// Runtime-capacity interface over caller-owned arrays.
+class ConeRayCasterBuffer {
+ public:
+  ConeRayCasterBuffer(const ConeRayCasterBuffer&) = delete;
+  ConeRayCasterBuffer& operator=(const ConeRayCasterBuffer&) = delete;
+
+  // Columns (and rows) scanned directly before the bound continues from the cells beyond them.
+  static constexpr std::int32_t kDirect = 16;
+
+  // Bytes the query reads: one per cell and heading, 8 per heading.
+  std::uint32_t bytes_used() const {
+    return static_cast<std::uint32_t>(bins_) * (cells_ + 8u);
+  }
+
+  // Builds the table of T headings 2 pi b / T for `grid`. Nothing usable is left unless the result is ok (view()
+  // is invalid then). Bounded: per heading, (kDirect + 1) prefix-count reads and a window of entries per cell.
+  ConeRayCasterStatus build(const OccupancyGrid& grid, std::int32_t bins) {
+    view_ = ConeRayCaster{};
+    bins_ = 0;
+    cells_ = 0;
+    if (!grid.valid() || grid.width() > cap_w_ || grid.height() > cap_h_) return ConeRayCasterStatus::bad_grid;
+    if (bins < 8 || bins > cap_bins_ || (bins & (bins - 1)) != 0) return ConeRayCasterStatus::bad_bins;
+    const std::int32_t w = grid.width(), hgt = grid.height();
+    const std::uint32_t cells = static_cast<std::uint32_t>(w) * static_cast<std::uint32_t>(hgt);
+    // Prefix counts of occupied cells: along each column (x fixed, over y) and along each row (y fixed, over x).
+    for (std::int32_t x = 0; x < w; ++x) {
+      std::uint16_t* p = col_ + static_cast<std::uint32_t>(x) * static_cast<std::uint32_t>(hgt + 1);
+      p[0] = 0;
+      for (std::int32_t y = 0; y < hgt; ++y)
+        p[y + 1] = static_cast<std::uint16_t>(p[y] + (grid.is_occupied_value(grid.at(x, y)) ? 1 : 0));
+    }
+    for (std::int32_t y = 0; y < hgt; ++y) {
+      std::uint16_t* p = row_ + static_cast<std::uint32_t>(y) * static_cast<std::uint32_t>(w + 1);
+      p[0] = 0;
+      for (std::int32_t x = 0; x < w; ++x)
+        p[x + 1] = static_cast<std::uint16_t>(p[x] + (grid.is_occupied_value(grid.at(x, y)) ? 1 : 0));
+    }
+    const float half = kTwoPi / static_cast<float>(bins) * 0.5f;
+    for (std::int32_t b = 0; b < bins; ++b) {
+      const float a = kTwoPi * static_cast<float>(b) / static_cast<float>(bins);
+      float s = 0.0f, c = 0.0f;
+      fmath::sincos(a, s, c);
+      cos_[b] = c;
+      sin_[b] = s;
+      // The cone's edges: 1.25 halves of a bin each side (the query trusts 1.2).
+      float s_lo = 0.0f, c_lo = 0.0f, s_hi = 0.0f, c_hi = 0.0f;
+      fmath::sincos(a - 1.25f * half, s_lo, c_lo);
+      fmath::sincos(a + 1.25f * half, s_hi, c_hi);
+      const bool x_major = fmath::abs(c) >= fmath::abs(s);
+      Axis ax;
+      if (x_major) {
+        // Lines are columns (u = x), across them y; the slope dy / |dx| is monotone over the cone.
+        const float m0 = slope(s_lo, c_lo), m1 = slope(s_hi, c_hi);
+        ax = Axis{c > 0.0f ? 1 : -1, w, hgt, col_, lane_min(m0, m1), lane_max(m0, m1), lane_max_abs(c_lo, c_hi, c),
+                  true};
+      } else {
+        const float m0 = slope(c_lo, s_lo), m1 = slope(c_hi, s_hi);
+        ax = Axis{s > 0.0f ? 1 : -1, hgt, w, row_, lane_min(m0, m1), lane_max(m0, m1), lane_max_abs(s_lo, s_hi, s),
+                  false};
+      }
+      build_bin(grid, ax, entry_ + static_cast<std::uint32_t>(b) * cells);
+    }
+    bins_ = bins;
+    cells_ = cells;
+    ConeRayCaster::Tables t;
+    t.cos_b = cos_;
+    t.sin_b = sin_;
+    t.entry = entry_;
+    t.bins = bins;
+    float sg = 0.0f, cg = 1.0f;
+    fmath::sincos(1.2f * half, sg, cg);
+    t.min_cos_gap = cg;
+    view_ = ConeRayCaster(grid, t);
+    return ConeRayCasterStatus::ok;
+  }
+  ConeRayCaster view() const { return view_; }
+
+ protected:
+  ConeRayCasterBuffer(float* cos_b, float* sin_b, std::int32_t cap_bins, std::uint8_t* entries, std::int32_t cap_w,
+                      std::int32_t cap_h, std::uint16_t* col, std::uint16_t* row, float* line, std::uint8_t* bound)
+      : cos_(cos_b), sin_(sin_b), cap_bins_(cap_bins), entry_(entries), cap_w_(cap_w), cap_h_(cap_h), col_(col),
+        row_(row), line_(line), bound_(bound) {}
+  ~ConeRayCasterBuffer() = default;
+
+ private:
+  struct Axis {
+    std::int32_t su;       // +1 or -1: the direction along u
+    std::int32_t nu, nv;   // lines, and cells per line
+    const std::uint16_t* prefix;  // [nu][nv + 1]
+    float m_lo, m_hi;      // the slope dv / |du| over the cone
+    float max_cos;         // the largest |du| per unit path over the cone
+    bool x_major;
+  };
+  static float slope(float across, float along) { return across / fmath::abs(along); }
+  static float lane_max_abs(float a, float b, float c) {
+    const float m = fmath::abs(a) > fmath::abs(b) ? fmath::abs(a) : fmath::abs(b);
+    return m > fmath::abs(c) ? m : fmath::abs(c);
+  }
+  static std::int32_t floor_i(float v) {
+    const std::int32_t i = static_cast<std::int32_t>(v);
+    return static_cast<float>(i) > v ? i - 1 : i;
+  }
+  // The rows (across the lines) a cone from a cell's square reaches after a run in [lo, hi] along u: offsets from
+  // the cell's own row, widened by 1/1024 cell against rounding.
+  static void rows(const Axis& a, float run_lo, float run_hi, std::int32_t& r0, std::int32_t& r1) {
+    const float lo = lane_min(run_lo * a.m_lo, run_hi * a.m_lo);
+    const float hi = 1.0f + lane_max(run_lo * a.m_hi, run_hi * a.m_hi);
+    r0 = floor_i(lo - 1.0f / 1024.0f);
+    r1 = floor_i(hi + 1.0f / 1024.0f);
+  }
+  static float lane_min(float a, float b) { return a < b ? a : b; }
+  static float lane_max(float a, float b) { return a > b ? a : b; }
+
+  // The lines' bounds in cells (0 for an occupied cell), line after line along u: what the cells beyond a line's
+  // first kDirect + 1 lines read.
+  std::uint8_t* bound_line(std::int32_t u, std::int32_t nv) const {
+    return bound_ + static_cast<std::uint32_t>(u) * static_cast<std::uint32_t>(nv);
+  }
+
+  // For every v of a line: d[v] = min(d[v], value) where the window [v + w0, v + w1] (clipped to the line) holds an
+  // occupied cell, read from a prefix count p. The interior, where no clipping is needed, is a plain loop.
+  static void mark_hits(float* d, const std::uint16_t* p, std::int32_t nv, std::int32_t w0, std::int32_t w1,
+                        float value) {
+    std::int32_t va = -w0 > 0 ? -w0 : 0, vb = nv - 1 - w1;  // interior [va, vb]
+    if (vb > nv - 1) vb = nv - 1;
+    for (std::int32_t v = 0; v < nv; ++v) {
+      if (v == va && va <= vb) {
+        const std::uint16_t* hi = p + (va + w1 + 1);
+        const std::uint16_t* lo = p + (va + w0);
+        for (std::int32_t i = 0; i <= vb - va; ++i) {
+          const float m = d[va + i] < value ? d[va + i] : value;
+          d[va + i] = hi[i] != lo[i] ? m : d[va + i];
+        }
+        v = vb;
+        continue;
+      }
+      std::int32_t lo = v + w0, hi = v + w1;
+      if (lo < 0) lo = 0;
+      if (hi > nv - 1) hi = nv - 1;
+      if (lo <= hi && p[hi + 1] != p[lo] && value < d[v]) d[v] = value;
+    }
+  }
+  // For every v: d[v] = min(d[v], add + the smallest bound of the window [v + w0, v + w1] of line `beyond`
+  // (clipped to the line; nothing where the window is empty), one window offset at a time.
+  static void mark_beyond(float* d, const std::uint8_t* beyond, std::int32_t nv, std::int32_t w0, std::int32_t w1,
+                          float add) {
+    for (std::int32_t k = w0; k <= w1; ++k) {
+      const std::int32_t va = -k > 0 ? -k : 0, vb = nv - 1 - k < nv - 1 ? nv - 1 - k : nv - 1;  // v + k on the line
+      for (std::int32_t v = va; v <= vb; ++v) {
+        const float via = add + static_cast<float>(beyond[v + k]);
+        d[v] = via < d[v] ? via : d[v];
+      }
+    }
+  }
+
+  void build_bin(const OccupancyGrid& grid, const Axis& a, std::uint8_t* e) const {
+    const float path_per_run = 1.0f / a.max_cos;  // path >= run / max|cos|
+    std::int32_t r0[kDirect + 1], r1[kDirect + 1];
+    for (std::int32_t i = 0; i <= kDirect; ++i) {
+      rows(a, static_cast<float>(i > 0 ? i - 1 : 0), static_cast<float>(i + 1), r0[i], r1[i]);
+    }
+    std::int32_t h0 = 0, h1 = 0;  // rows through which the cone enters line k + 1
+    rows(a, static_cast<float>(kDirect), static_cast<float>(kDirect + 1), h0, h1);
+    const std::uint32_t stride = static_cast<std::uint32_t>(a.nv + 1);
+    const std::uint32_t w = static_cast<std::uint32_t>(a.x_major ? a.nu : a.nv);
+    // Lines in the order the bound needs them: the farthest along the heading first.
+    for (std::int32_t n = 0; n < a.nu; ++n) {
+      const std::int32_t u = a.su > 0 ? a.nu - 1 - n : n;
+      float* d = line_;
+      for (std::int32_t v = 0; v < a.nv; ++v) d[v] = 254.0f;  // the cone leaves the map without an obstacle
+      for (std::int32_t i = 0; i <= kDirect; ++i) {
+        const std::int32_t ui = u + a.su * i;
+        if (ui < 0 || ui >= a.nu) break;
+        mark_hits(d, a.prefix + static_cast<std::uint32_t>(ui) * stride, a.nv, r0[i], r1[i],
+                  static_cast<float>(i > 0 ? i - 1 : 0) * path_per_run);
+      }
+      const std::int32_t un = u + a.su * (kDirect + 1);
+      if (un >= 0 && un < a.nu)
+        mark_beyond(d, bound_line(un, a.nv), a.nv, h0, h1, static_cast<float>(kDirect) * path_per_run);
+      std::uint8_t* out_line = bound_line(u, a.nv);
+      for (std::int32_t v = 0; v < a.nv; ++v) {
+        const std::int32_t x = a.x_major ? u : v, y = a.x_major ? v : u;
+        const bool occupied = grid.is_occupied_value(grid.at(x, y));
+        const std::int32_t di = d[v] >= 254.0f ? 254 : static_cast<std::int32_t>(d[v]);  // floor
+        out_line[v] = occupied ? std::uint8_t{0} : static_cast<std::uint8_t>(di);
+        e[static_cast<std::uint32_t>(y) * w + static_cast<std::uint32_t>(x)] =
+            occupied ? std::uint8_t{0} : static_cast<std::uint8_t>(di + 1);
+      }
+    }
+  }
+
+  float* cos_;
+  float* sin_;
+  std::int32_t cap_bins_;
+  std::uint8_t* entry_;
+  std::int32_t cap_w_, cap_h_;
+  std::uint16_t* col_;
+  std::uint16_t* row_;
+  float* line_;
+  std::uint8_t* bound_;
+  std::uint32_t cells_ = 0;
+  std::int32_t bins_ = 0;
+  ConeRayCaster view_{};
+};
+
+// The owner: up to TMax headings over a map of up to MaxW x MaxH cells; a static object.
+template <std::int32_t TMax, std::int32_t MaxW, std::int32_t MaxH>
+class ConeRayCasterStorage final : public ConeRayCasterBuffer {
+  static_assert(TMax >= 8 && TMax <= 1024 && (TMax & (TMax - 1)) == 0, "T must be a power of two >= 8");
+  static_assert(MaxW > 0 && MaxH > 0 && MaxW < 65535 && MaxH < 65535, "map size");
+  static constexpr std::uint64_t kT = static_cast<std::uint64_t>(TMax);
+  static constexpr std::uint64_t kW = static_cast<std::uint64_t>(MaxW);
+  static constexpr std::uint64_t kH = static_cast<std::uint64_t>(MaxH);
+
+ public:
+  static constexpr std::uint64_t kCells = kW * kH;
+  // The query's table and headings, then the build's scratch.
+  static constexpr std::uint64_t kBytes =
+      kCells * kT + 8ull * kT + 2ull * (kW * (kH + 1u) + kH * (kW + 1u)) + 4ull * (kW > kH ? kW : kH) + kCells;
+  ConeRayCasterStorage()
+      : ConeRayCasterBuffer(cos_, sin_, TMax, entry_storage_, MaxW, MaxH, col_storage_, row_storage_,
+                            line_storage_, bound_storage_) {}
+
+ private:
+  float cos_[kT];
+  float sin_[kT];
+  std::uint8_t entry_storage_[kCells * kT];
+  std::uint16_t col_storage_[kW * (kH + 1u)];
+  std::uint16_t row_storage_[kH * (kW + 1u)];
+  float line_storage_[kW > kH ? kW : kH];
+  std::uint8_t bound_storage_[kCells];
+};
+
+}  // namespace est

@@ -1,0 +1,69 @@
+#pragma once
+// How far a ray caster's ranges are from the exact traversal's (GridRayCaster): the accuracy check of the
+// accelerated exact casters (lane caster, cone caster).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "est/map/ray_casting.hpp"
+#include "est/random/xoshiro128.hpp"
+
+namespace test_support {
+
+struct Agreement {
+  int rays = 0;
+  int identical = 0;    // the same float as GridRayCaster
+  int within_cell = 0;  // |caster - exact| <= one cell
+  double worst = 0.0;   // m
+};
+
+inline void add(Agreement& s, float got, float exact, float cell) {
+  const double d = std::fabs(double(got) - double(exact));
+  ++s.rays;
+  s.identical += got == exact ? 1 : 0;
+  s.within_cell += d <= double(cell) ? 1 : 0;
+  s.worst = std::max(s.worst, d);
+}
+
+// Random starts in free cells, random headings (continuous, so never a table heading).
+template <class Caster>
+Agreement random_rays(const est::OccupancyGrid& g, const Caster& caster, int rays, float max_range,
+                      std::uint64_t seed) {
+  const est::GridRayCaster exact(g);
+  est::Rng rng(seed);
+  Agreement s;
+  while (s.rays < rays) {
+    const float x = g.origin_x() + rng.uniform(0.0f, static_cast<float>(g.width()) * g.resolution());
+    const float y = g.origin_y() + rng.uniform(0.0f, static_cast<float>(g.height()) * g.resolution());
+    const float th = rng.uniform(-est::kPi, est::kPi);
+    std::int32_t cx = 0, cy = 0;
+    if (!g.world_to_cell(x, y, cx, cy) || g.classify(cx, cy) != est::CellClass::free) continue;
+    const float dx = std::cos(th), dy = std::sin(th);
+    add(s, caster.cast(x, y, dx, dy, max_range), exact.cast(x, y, dx, dy, max_range), g.resolution());
+  }
+  return s;
+}
+
+// Rays from every 7th free cell centre at multiples of 45 deg: through cell corners and along grid lines, where
+// the traversal breaks ties.
+template <class Caster>
+Agreement centre_rays(const est::OccupancyGrid& g, const Caster& caster, float max_range) {
+  const est::GridRayCaster exact(g);
+  Agreement s;
+  for (std::int32_t cy = 1; cy < g.height(); cy += 7) {
+    for (std::int32_t cx = 1; cx < g.width(); cx += 7) {
+      if (g.classify(cx, cy) != est::CellClass::free) continue;
+      for (int k = 0; k < 8; ++k) {
+        const float a = static_cast<float>(k) * est::kPi / 4.0f;
+        const float dx = k % 2 == 0 ? std::round(std::cos(a)) : std::cos(a);
+        const float dy = k % 2 == 0 ? std::round(std::sin(a)) : std::sin(a);
+        const float x = g.cell_center_x(cx), y = g.cell_center_y(cy);
+        add(s, caster.cast(x, y, dx, dy, max_range), exact.cast(x, y, dx, dy, max_range), g.resolution());
+      }
+    }
+  }
+  return s;
+}
+
+}  // namespace test_support

@@ -1,0 +1,249 @@
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "caster_agreement.hpp"
+#include "datasets.hpp"
+#include "est/map/cone_ray_caster.hpp"
+#include "est/map/ray_casting.hpp"
+#include "est/random/xoshiro128.hpp"
+#include "est/sensor/beam_range_finder_model_cone.hpp"
+#include "est/sensor/beam_readings.hpp"
+#include "est/sensor/range_scan.hpp"
+#include "world/office_map.hpp"
+#include "maps/ros_map_loader.hpp"
+
+namespace {
+
+using test_support::Agreement;
+
+est::OccupancyGridStorage<1024, 1024> g_grid;
+// Enough for the Intel map (888 x 848) at 64 headings (bench_sensor_models prints the figures): 48 MB.
+est::ConeRayCasterStorage<64, 888, 848> g_cone;
+
+void print(const char* name, const Agreement& s, double build_ms) {
+  std::printf("cone ray caster on %s: build %.0f ms, %.1f MiB; %d rays: %d identical to the exact traversal "
+              "(%.3f %%), %.3f %% within one cell, worst |error| %.3f m\n",
+              name, build_ms, g_cone.bytes_used() / 1048576.0, s.rays, s.identical, 100.0 * s.identical / s.rays,
+              100.0 * s.within_cell / s.rays, s.worst);
+}
+
+double build(int bins) {
+  const auto t0 = std::chrono::steady_clock::now();
+  REQUIRE(g_cone.build(g_grid.grid(), bins) == est::ConeRayCasterStatus::ok);
+  return 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The table's claim itself: from a random point of a free cell, at a random heading within 1.2 bins' halves of bin
+// b (what the query trusts), the exact traversal enters no occupied cell before bound_cells(b, cell). Returns the
+// rays that beat their bound (0 when the claim holds) and prints how tight the bounds are.
+int rays_beating_the_bound(const est::OccupancyGrid& g, const est::ConeRayCaster& cone, int rays, std::uint64_t seed) {
+  const est::GridRayCaster exact(g);
+  est::Rng rng(seed);
+  const float half = est::kPi / static_cast<float>(cone.bins());
+  const float far = static_cast<float>(g.width() + g.height()) * g.resolution() * 2.0f;
+  int n = 0, beaten = 0;
+  double slack = 0.0;
+  while (n < rays) {
+    const std::int32_t cx = static_cast<std::int32_t>(rng.uniform(0.0f, static_cast<float>(g.width())));
+    const std::int32_t cy = static_cast<std::int32_t>(rng.uniform(0.0f, static_cast<float>(g.height())));
+    if (!g.contains(cx, cy) || g.is_occupied_value(g.at(cx, cy))) continue;
+    const std::int32_t b = static_cast<std::int32_t>(rng.uniform(0.0f, static_cast<float>(cone.bins()))) % cone.bins();
+    const float th = 2.0f * half * static_cast<float>(b) + rng.uniform(-1.2f, 1.2f) * half;
+    const float x = g.origin_x() + (static_cast<float>(cx) + rng.uniform(0.0f, 1.0f)) * g.resolution();
+    const float y = g.origin_y() + (static_cast<float>(cy) + rng.uniform(0.0f, 1.0f)) * g.resolution();
+    std::int32_t sx = 0, sy = 0;
+    if (!g.world_to_cell(x, y, sx, sy) || sx != cx || sy != cy) continue;  // rounded onto a neighbour
+    ++n;
+    const float r = exact.cast(x, y, std::cos(th), std::sin(th), far);
+    const std::int32_t bound = cone.bound_cells(b, cx, cy);
+    if (r >= far) continue;  // leaves the map: any bound holds
+    const double hit = static_cast<double>(r / g.resolution());
+    beaten += hit < static_cast<double>(bound) ? 1 : 0;
+    slack += hit - static_cast<double>(bound);
+  }
+  std::printf("cone ray caster, %d headings: %d of %d rays beat their bound; the bound is %.1f cells short of the "
+              "hit on average\n", cone.bins(), beaten, rays, slack / rays);
+  return beaten;
+}
+
+}  // namespace
+
+TEST_CASE("cone caster keeps the exact caster's conventions", "[cone_ray_caster]") {
+  // 40 x 20 cells of 0.1 m, a wall column at cx = 30; open to the left and up.
+  REQUIRE(g_grid.configure(40, 20, 0.1f, 0.0f, 0.0f, est::kFreeCell) == est::MapStatus::ok);
+  g_grid.fill_rect(30, 0, 30, 19, est::kOccupiedCell);
+  build(16);
+  const est::ConeRayCaster c = g_cone.view();
+  REQUIRE(c.valid());
+  CHECK(c.cast(0.55f, 1.05f, 1.0f, 0.0f, 10.0f) == Approx(2.45f).margin(1e-5f));
+  CHECK(c.cast(0.52f, 1.05f, 1.0f, 0.0f, 10.0f) == Approx(2.48f).margin(1e-5f));
+  CHECK(c.cast(3.05f, 1.05f, 1.0f, 0.0f, 10.0f) == 0.0f);     // start in an occupied cell
+  CHECK(c.cast(-0.1f, 1.05f, 1.0f, 0.0f, 10.0f) == 0.0f);     // start off the map
+  CHECK(c.cast(NAN, 1.05f, 1.0f, 0.0f, 10.0f) == 0.0f);       // non-finite start
+  CHECK(c.cast(0.55f, 1.05f, NAN, 0.0f, 10.0f) == 0.0f);      // non-finite direction
+  CHECK(c.cast(0.55f, 1.05f, -1.0f, 0.0f, 10.0f) == 10.0f);   // leaves the map: no hit
+  CHECK(c.cast(0.55f, 1.05f, 1.0f, 0.0f, 1.0f) == 1.0f);      // capped at max range
+  CHECK(c.cast(0.55f, 1.05f, 1.0f, 0.0f, 0.0f) == 0.0f);      // max range <= 0
+  CHECK(c.cast(0.55f, 1.05f, 0.0f, 1.0f, 10.0f) == 10.0f);    // along the wall, never reaching it
+  // A heading given far from the ray's is replaced by the ray's own: still exact (the bound is for the cone of
+  // the bin it is read from, so trusting a wrong bin could jump through the wall).
+  const est::ConeRayCaster::Origin o = c.origin(0.55f, 1.05f);
+  CHECK(c.cast_from(o, 1.0f, 0.0f, 5.0f, 10.0f) == Approx(2.45f).margin(1e-5f));
+  CHECK(c.cast_from(o, 1.0f, 0.0f, NAN, 10.0f) == Approx(2.45f).margin(1e-5f));
+  CHECK(c.cast_from(o, 1.0f, 0.0f, 3e9f, 10.0f) == Approx(2.45f).margin(1e-5f));
+  // The bounds: the wall's cells 0; a cell facing it at 2.5 cells no more than the run to it.
+  CHECK(c.bound_cells(0, 30, 5) == -1);
+  CHECK(c.bound_cells(0, 27, 5) >= 0);
+  CHECK(c.bound_cells(0, 27, 5) <= 2);
+  CHECK(c.bound_cells(16, 27, 5) == -1);  // off the table
+  CHECK(c.bound_cells(0, 40, 5) == -1);
+}
+
+TEST_CASE("cone caster rejects bad builds with a reason", "[cone_ray_caster]") {
+  est::sim::make_office_map(g_grid);
+  CHECK(g_cone.build(g_grid.grid(), 48) == est::ConeRayCasterStatus::bad_bins);
+  CHECK(g_cone.build(g_grid.grid(), 4) == est::ConeRayCasterStatus::bad_bins);
+  CHECK(g_cone.build(g_grid.grid(), 128) == est::ConeRayCasterStatus::bad_bins);  // above the storage's T
+  CHECK(!g_cone.view().valid());
+  CHECK(g_cone.build(est::OccupancyGrid{}, 16) == est::ConeRayCasterStatus::bad_grid);
+  static est::ConeRayCasterStorage<16, 100, 100> small;  // smaller than the office
+  CHECK(small.build(g_grid.grid(), 16) == est::ConeRayCasterStatus::bad_grid);
+  CHECK(!small.view().valid());
+}
+
+// The claim the jumps rest on: no ray beats its cell's bound (a broken bound shows here first, before it shows as a
+// wrong range).
+TEST_CASE("cone caster's bounds hold for every ray of their cone", "[cone_ray_caster]") {
+  est::sim::make_office_map(g_grid);
+  for (int bins : {8, 16, 64}) {
+    build(bins);
+    CHECK(rays_beating_the_bound(g_grid.grid(), g_cone.view(), 20000, 5u + static_cast<unsigned>(bins)) == 0);
+  }
+}
+
+// The accuracy claim: >= 99.9 % of rays within one cell of the exact traversal (measured: every ray identical).
+TEST_CASE("cone caster agrees with the exact traversal on the synthetic office", "[cone_ray_caster]") {
+  est::sim::make_office_map(g_grid);
+  for (int bins : {8, 16, 64}) {
+    const double ms = build(bins);
+    for (float range : {2.0f, 20.0f}) {
+      const Agreement s =
+          test_support::random_rays(g_grid.grid(), g_cone.view(), 20000, range, 7u + static_cast<unsigned>(bins));
+      char name[96];
+      std::snprintf(name, sizeof name, "the synthetic office (400 x 300 at 0.05 m), %d headings, %.0f m", bins,
+                    static_cast<double>(range));
+      print(name, s, ms);
+      CHECK(s.within_cell >= s.rays * 999 / 1000);
+      CHECK(s.identical >= s.rays * 999 / 1000);
+    }
+  }
+}
+
+TEST_CASE("cone caster agrees with the exact traversal at cell centres and along the axes", "[cone_ray_caster]") {
+  est::sim::make_office_map(g_grid);
+  build(64);
+  const Agreement s = test_support::centre_rays(g_grid.grid(), g_cone.view(), 20.0f);
+  std::printf("cone ray caster, %d rays from cell centres at multiples of 45 deg: %d identical, worst %.3f m\n",
+              s.rays, s.identical, s.worst);
+  CHECK(s.identical >= s.rays * 999 / 1000);
+  CHECK(s.worst <= 0.05 + 1e-6);
+}
+
+TEST_CASE("cone caster walks a ray grazing a wall to its end", "[cone_ray_caster]") {
+  // A corridor 600 cells long, the ray half a cell from its wall and at a slight angle to it: every bound is under
+  // a cell, so the cast is steps of the traversal all the way (the loop's bound, 3 (W + H) + 8, is what ends it).
+  REQUIRE(g_grid.configure(600, 6, 0.05f, 0.0f, 0.0f, est::kFreeCell) == est::MapStatus::ok);
+  g_grid.fill_rect(0, 0, 599, 0, est::kOccupiedCell);
+  g_grid.fill_rect(599, 0, 599, 5, est::kOccupiedCell);
+  build(64);
+  const est::GridRayCaster exact(g_grid.grid());
+  const est::ConeRayCaster cone = g_cone.view();
+  for (float a : {0.0f, 0.0005f, -0.0005f, 0.001f}) {
+    const float dx = std::cos(a), dy = std::sin(a);
+    const float e = exact.cast(0.02f, 0.075f, dx, dy, 40.0f), c = cone.cast(0.02f, 0.075f, dx, dy, 40.0f);
+    CHECK(std::memcmp(&e, &c, sizeof(float)) == 0);
+  }
+}
+
+TEST_CASE("cone caster agrees with the exact traversal on the Intel map", "[cone_ray_caster][dataset]") {
+  const std::string dir = test_support::dataset_or_skip("carmen-radish-logs") + "/..";
+  est::sim::load_trinary_pgm_map(dir + "/carmen-radish-logs/occupancy-maps-gondsm/intel.pgm", g_grid);
+  REQUIRE(g_grid.width() == 888);
+  for (int bins : {32, 64}) {
+    const double ms = build(bins);
+    CHECK(rays_beating_the_bound(g_grid.grid(), g_cone.view(), 20000, 3u + static_cast<unsigned>(bins)) == 0);
+    for (float range : {5.0f, 30.0f}) {
+      const Agreement s =
+          test_support::random_rays(g_grid.grid(), g_cone.view(), 20000, range, 13u + static_cast<unsigned>(bins));
+      char name[96];
+      std::snprintf(name, sizeof name, "the Intel map (888 x 848 at 0.05 m), %d headings, %.0f m", bins,
+                    static_cast<double>(range));
+      print(name, s, ms);
+      CHECK(s.within_cell >= s.rays * 999 / 1000);
+      CHECK(s.identical >= s.rays * 999 / 1000);
+    }
+  }
+}
+
+TEST_CASE("beam model on the cone caster gives the exact caster's densities, their product in log space",
+          "[cone_ray_caster]") {
+  est::sim::make_office_map(g_grid);
+  build(64);
+  const est::ConeRayCaster cone = g_cone.view();
+  const est::GridRayCaster exact(g_grid.grid());
+  est::BeamModelParams bp;
+  bp.range_max = 20.0f;
+  est::BeamRangeFinderModel model;
+  REQUIRE(model.configure(bp) == est::SensorModelStatus::ok);
+  const est::Pose2 truth{5.5f, 7.3f, 0.3f};
+  const est::ScanLayout layout{-est::kPi, est::kTwoPi / 360.0f, 360, 0.05f, 20.0f};
+  std::vector<float> ranges(360);
+  for (int k = 0; k < 360; ++k) {
+    const float a = truth.theta + layout.angle_min + static_cast<float>(k) * layout.angle_increment;
+    ranges[static_cast<std::size_t>(k)] = exact.cast(truth.x, truth.y, std::cos(a), std::sin(a), 20.0f);
+  }
+  static est::PreparedScan<360> scan;
+  REQUIRE(scan.prepare(layout, ranges.data(), 1) == est::ScanStatus::ok);
+  const est::ScanBeams z = scan.beams();
+  static est::BeamBearingsStorage<360> bearings;
+  REQUIRE(bearings.prepare(z, cone.bins()));
+  static est::BeamReadingsStorage<360> readings;
+  REQUIRE(readings.prepare(z, model));
+  est::Rng rng(21u);
+  double worst = 0.0;
+  for (int i = 0; i < 200; ++i) {
+    const est::Pose2 x{truth.x + rng.uniform(-0.3f, 0.3f), truth.y + rng.uniform(-0.3f, 0.3f),
+                       truth.theta + rng.uniform(-0.1f, 0.1f)};
+    // The exact caster's per-beam log densities, summed in double: the reference of LogProduct's bound.
+    const est::SensorFrame f = est::sensor_frame(x, {});
+    double ref = 0.0;
+    for (std::int32_t k = 0; k < z.count; ++k) {
+      const float dx = f.c * z.ux[k] - f.s * z.uy[k], dy = f.s * z.ux[k] + f.c * z.uy[k];
+      const float e = exact.cast(f.x, f.y, dx, dy, 20.0f);
+      const float c = cone.cast(f.x, f.y, dx, dy, 20.0f);
+      REQUIRE(std::memcmp(&e, &c, sizeof(float)) == 0);  // the same z* on every beam
+      ref += static_cast<double>(model.log_density(z.is_max[k] ? 20.0f : z.range[k], e));
+    }
+    const float fast = est::beam_range_finder_model(z, bearings.view(), readings.view(), x, {}, cone, model);
+    const float again = est::beam_range_finder_model(z, bearings.view(), readings.view(), x, {}, cone, model);
+    REQUIRE(std::memcmp(&fast, &again, sizeof(float)) == 0);
+    const double bound = z.count * std::ldexp(1.0, -24) + 4.0 * std::fabs(ref) * std::ldexp(1.0, -23);
+    CHECK(std::fabs(double(fast) - ref) <= bound);
+    worst = std::max(worst, std::fabs(double(fast) - ref));
+  }
+  std::printf("beam model on the cone caster: worst |log q - sum of exact log densities| %.2e nats over 200 "
+              "particles, 360 beams\n", worst);
+  // Bearings prepared for another heading count, or a caster not built, are refused.
+  static est::BeamBearingsStorage<360> wrong;
+  REQUIRE(wrong.prepare(z, 32));
+  CHECK(est::beam_range_finder_model(z, wrong.view(), readings.view(), truth, {}, cone, model) ==
+        360.0f * est::kBeamLogDensityFloor);
+  CHECK(est::beam_range_finder_model(z, bearings.view(), readings.view(), truth, {}, est::ConeRayCaster{}, model) ==
+        360.0f * est::kBeamLogDensityFloor);
+}
