@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,21 @@ void print(const char* name, const Agreement& s, double build_ms) {
               "(%.3f %%), %.3f %% within one cell, worst |error| %.3f m\n",
               name, build_ms, g_cone.bytes_used() / 1048576.0, s.rays, s.identical, 100.0 * s.identical / s.rays,
               100.0 * s.within_cell / s.rays, s.worst);
+}
+
+double build(int bins);
+
+// Random rays on the map in g_grid at `bins` headings and two max ranges: >= 99.9 % identical and within a cell.
+void check_agreement(const char* map, int bins, std::initializer_list<float> ranges, std::uint64_t seed) {
+  const double ms = build(bins);
+  for (float range : ranges) {
+    const Agreement s = test_support::random_rays(g_grid.grid(), g_cone.view(), 20000, range, seed);
+    char name[128];
+    std::snprintf(name, sizeof name, "%s, %d headings, %.0f m", map, bins, static_cast<double>(range));
+    print(name, s, ms);
+    CHECK(s.within_cell >= s.rays * 999 / 1000);
+    CHECK(s.identical >= s.rays * 999 / 1000);
+  }
 }
 
 double build(int bins) {
@@ -130,19 +146,9 @@ TEST_CASE("cone caster's bounds hold for every ray of their cone", "[cone_ray_ca
 // The accuracy claim: >= 99.9 % of rays within one cell of the exact traversal (measured: every ray identical).
 TEST_CASE("cone caster agrees with the exact traversal on the synthetic office", "[cone_ray_caster]") {
   est::sim::make_office_map(g_grid);
-  for (int bins : {8, 16, 64}) {
-    const double ms = build(bins);
-    for (float range : {2.0f, 20.0f}) {
-      const Agreement s =
-          test_support::random_rays(g_grid.grid(), g_cone.view(), 20000, range, 7u + static_cast<unsigned>(bins));
-      char name[96];
-      std::snprintf(name, sizeof name, "the synthetic office (400 x 300 at 0.05 m), %d headings, %.0f m", bins,
-                    static_cast<double>(range));
-      print(name, s, ms);
-      CHECK(s.within_cell >= s.rays * 999 / 1000);
-      CHECK(s.identical >= s.rays * 999 / 1000);
-    }
-  }
+  for (int bins : {8, 16, 64})
+    check_agreement("the synthetic office (400 x 300 at 0.05 m)", bins, {2.0f, 20.0f},
+                    7u + static_cast<unsigned>(bins));
 }
 
 TEST_CASE("cone caster agrees with the exact traversal at cell centres and along the axes", "[cone_ray_caster]") {
@@ -176,18 +182,8 @@ TEST_CASE("cone caster agrees with the exact traversal on the Intel map", "[cone
   est::sim::load_trinary_pgm_map(dir + "/carmen-radish-logs/occupancy-maps-gondsm/intel.pgm", g_grid);
   REQUIRE(g_grid.width() == 888);
   for (int bins : {32, 64}) {
-    const double ms = build(bins);
+    check_agreement("the Intel map (888 x 848 at 0.05 m)", bins, {5.0f, 30.0f}, 13u + static_cast<unsigned>(bins));
     CHECK(rays_beating_the_bound(g_grid.grid(), g_cone.view(), 20000, 3u + static_cast<unsigned>(bins)) == 0);
-    for (float range : {5.0f, 30.0f}) {
-      const Agreement s =
-          test_support::random_rays(g_grid.grid(), g_cone.view(), 20000, range, 13u + static_cast<unsigned>(bins));
-      char name[96];
-      std::snprintf(name, sizeof name, "the Intel map (888 x 848 at 0.05 m), %d headings, %.0f m", bins,
-                    static_cast<double>(range));
-      print(name, s, ms);
-      CHECK(s.within_cell >= s.rays * 999 / 1000);
-      CHECK(s.identical >= s.rays * 999 / 1000);
-    }
   }
 }
 
@@ -202,14 +198,8 @@ TEST_CASE("beam model on the cone caster gives the exact caster's densities, the
   est::BeamRangeFinderModel model;
   REQUIRE(model.configure(bp) == est::SensorModelStatus::ok);
   const est::Pose2 truth{5.5f, 7.3f, 0.3f};
-  const est::ScanLayout layout{-est::kPi, est::kTwoPi / 360.0f, 360, 0.05f, 20.0f};
-  std::vector<float> ranges(360);
-  for (int k = 0; k < 360; ++k) {
-    const float a = truth.theta + layout.angle_min + static_cast<float>(k) * layout.angle_increment;
-    ranges[static_cast<std::size_t>(k)] = exact.cast(truth.x, truth.y, std::cos(a), std::sin(a), 20.0f);
-  }
   static est::PreparedScan<360> scan;
-  REQUIRE(scan.prepare(layout, ranges.data(), 1) == est::ScanStatus::ok);
+  REQUIRE(test_support::prepare_exact_scan(g_grid.grid(), truth, 20.0f, scan));
   const est::ScanBeams z = scan.beams();
   static est::BeamBearingsStorage<360> bearings;
   REQUIRE(bearings.prepare(z, cone.bins()));

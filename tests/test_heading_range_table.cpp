@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "caster_agreement.hpp"
 #include "datasets.hpp"
 #include "est/map/heading_range_table.hpp"
 #include "est/map/ray_casting.hpp"
@@ -32,17 +33,10 @@ struct ErrorStats {
 ErrorStats table_error(const est::OccupancyGrid& g, const est::HeadingRangeTable& t, int rays, float max_range,
                        std::uint64_t seed) {
   const est::GridRayCaster exact(g);
-  est::Rng rng(seed);
   std::vector<double> err;
-  while (static_cast<int>(err.size()) < rays) {
-    const float x = g.origin_x() + rng.uniform(0.0f, static_cast<float>(g.width()) * g.resolution());
-    const float y = g.origin_y() + rng.uniform(0.0f, static_cast<float>(g.height()) * g.resolution());
-    const float th = rng.uniform(-est::kPi, est::kPi);
-    std::int32_t cx = 0, cy = 0;
-    if (!g.world_to_cell(x, y, cx, cy) || g.classify(cx, cy) != est::CellClass::free) continue;
-    const float dx = std::cos(th), dy = std::sin(th);
-    err.push_back(std::fabs(double(t.cast(x, y, dx, dy, max_range)) - double(exact.cast(x, y, dx, dy, max_range))));
-  }
+  for (const test_support::TestRay& r : test_support::random_free_rays(g, rays, seed))
+    err.push_back(std::fabs(double(t.cast(r.x, r.y, r.dx, r.dy, max_range)) -
+                            double(exact.cast(r.x, r.y, r.dx, r.dy, max_range))));
   ErrorStats s;
   s.rays = rays;
   for (double e : err) {
@@ -151,14 +145,8 @@ TEST_CASE("beam model on the heading table is close to the exact one and bit-ide
   REQUIRE(model.configure(bp) == est::SensorModelStatus::ok);
   // A 360-beam scan cast exactly from a free pose; particles around it.
   const est::Pose2 truth{5.5f, 7.3f, 0.3f};
-  const est::ScanLayout layout{-est::kPi, est::kTwoPi / 360.0f, 360, 0.05f, 20.0f};
-  std::vector<float> ranges(360);
-  for (int k = 0; k < 360; ++k) {
-    const float a = truth.theta + layout.angle_min + static_cast<float>(k) * layout.angle_increment;
-    ranges[static_cast<std::size_t>(k)] = exact.cast(truth.x, truth.y, std::cos(a), std::sin(a), 20.0f);
-  }
   static est::PreparedScan<360> scan;
-  REQUIRE(scan.prepare(layout, ranges.data(), 1) == est::ScanStatus::ok);
+  REQUIRE(test_support::prepare_exact_scan(g_grid.grid(), truth, 20.0f, scan));
   static est::BeamBearingsStorage<360> bearings;
   REQUIRE(bearings.prepare(scan.beams(), table));
   est::Rng rng(21u);

@@ -600,7 +600,7 @@ TEST_CASE("estimator_node's replay of a recorded run gives the simulator's estim
   for (const sim::RobotKind robot : kModelsUnderTest)
     cases.push_back({robot, node::RangeModel::likelihood_field, node::BeamCast::table});
   cases.push_back({sim::RobotKind::velocity, node::RangeModel::beam, node::BeamCast::table});
-  cases.push_back({sim::RobotKind::velocity, node::RangeModel::beam, node::BeamCast::lanes});
+  cases.push_back({sim::RobotKind::velocity, node::RangeModel::beam, node::BeamCast::cone});
   for (const ReplayCase& c : cases) {
     const sim::RobotKind robot = c.robot;
     INFO("robot " << sim::to_string(robot) << ", " << node::to_string(c.range_model) << " range model, "

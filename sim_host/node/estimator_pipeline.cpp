@@ -65,11 +65,11 @@ bool parse(const std::string& s, est::loop::Filter& out) {
   return true;
 }
 
-const char* to_string(BeamCast c) { return c == BeamCast::lanes ? "lanes" : "table"; }
+const char* to_string(BeamCast c) { return c == BeamCast::cone ? "cone" : "table"; }
 
 bool parse(const std::string& s, BeamCast& out) {
   if (s == "table") out = BeamCast::table;
-  else if (s == "lanes") out = BeamCast::lanes;
+  else if (s == "cone") out = BeamCast::cone;
   else return false;
   return true;
 }
@@ -92,11 +92,11 @@ std::unique_ptr<MapModels> build_map_models(const EstimatorSpec& s, const Estima
   if (s.range_model == RangeModel::beam) {
     if (m->beam.configure(s.beam) != est::SensorModelStatus::ok)
       throw std::invalid_argument("beam model: bad parameters (the four weights must sum to 1, sigma, lambda > 0)");
-    if (s.beam_cast == BeamCast::lanes) {
-      m->lanes = std::make_unique<HeapLanes>(maps.grid, s.heading_bins);
-      if (m->lanes->build(maps.grid, s.heading_bins) != est::LaneRayCasterStatus::ok)
-        throw std::invalid_argument("beam model: cannot build the lane caster (bins a power of two in [4, 1024])");
-      m->lanes_view = m->lanes->view();
+    if (s.beam_cast == BeamCast::cone) {
+      m->cone = std::make_unique<HeapCone>(maps.grid, s.heading_bins);
+      if (m->cone->build(maps.grid, s.heading_bins) != est::ConeRayCasterStatus::ok)
+        throw std::invalid_argument("beam model: cannot build the cone caster (bins a power of two in [8, 1024])");
+      m->cone_view = m->cone->view();
       return m;
     }
     const std::size_t entries = static_cast<std::size_t>(maps.grid.width()) *

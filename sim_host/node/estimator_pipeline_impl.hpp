@@ -42,41 +42,25 @@ class HeapHeadingTable : private TableUnits, public est::HeadingRangeTableBuffer
         HeadingRangeTableBuffer(units.data(), static_cast<std::uint32_t>(entries)) {}
 };
 
-// The lane caster's arrays sized from the map (T <= 1024): lanes <= T (W + H + 2), blocks of 32 cells per lane <= (W + H) / 32
-// + 2, entries <= T (3 boundary cells + 1 sentinel per lane); allocated uninitialized (only what build() writes is
-// touched).
-struct LaneArrays {
-  static std::size_t boundary_cells(const est::OccupancyGrid& g) {
-    std::size_t n = 0;
-    for (std::int32_t y = 0; y < g.height(); ++y)
-      for (std::int32_t x = 0; x < g.width(); ++x)
-        if (g.is_occupied(x, y) && (!g.is_occupied(x - 1, y) || !g.is_occupied(x + 1, y) ||
-                                    !g.is_occupied(x, y - 1) || !g.is_occupied(x, y + 1)))
-          ++n;
-    return n;
-  }
-  LaneArrays(const est::OccupancyGrid& g, std::int32_t bins)
-      : n_t(static_cast<std::size_t>(bins < 4 ? 4 : (bins > 1024 ? 1024 : bins))),
-        n_lanes(n_t * (static_cast<std::size_t>(g.width() + g.height()) + 2u)),
-        n_blocks(n_lanes * (static_cast<std::size_t>(g.width() + g.height()) / 32u + 2u)),
-        n_entries(n_t * 3u * boundary_cells(g) + n_lanes),
-        f(new float[4u * n_t]), base(new std::uint32_t[3u * n_t + 1u]), lane_begin(new std::uint32_t[n_lanes + 1u]),
-        entry(new est::LaneEntry[n_entries]), block(new std::uint32_t[n_blocks]) {}
-  std::size_t n_t, n_lanes, n_blocks, n_entries;
+// The cone caster's arrays sized from the map (T <= 1024): T bytes per cell for the table, the build's two prefix
+// counts, a line of bounds and one byte per cell of scratch.
+struct ConeArrays {
+  ConeArrays(const est::OccupancyGrid& g, std::int32_t bins)
+      : n_t(static_cast<std::size_t>(bins < 8 ? 8 : (bins > 1024 ? 1024 : bins))),
+        w(static_cast<std::size_t>(g.width())), h(static_cast<std::size_t>(g.height())),
+        f(new float[2u * n_t + (w > h ? w : h)]), entry(new std::uint8_t[n_t * w * h + w * h]),
+        prefix(new std::uint16_t[w * (h + 1u) + h * (w + 1u)]) {}
+  std::size_t n_t, w, h;
   std::unique_ptr<float[]> f;
-  std::unique_ptr<std::uint32_t[]> base;
-  std::unique_ptr<std::uint32_t[]> lane_begin;
-  std::unique_ptr<est::LaneEntry[]> entry;
-  std::unique_ptr<std::uint32_t[]> block;
+  std::unique_ptr<std::uint8_t[]> entry;
+  std::unique_ptr<std::uint16_t[]> prefix;
 };
-class HeapLanes : private LaneArrays, public est::LaneRayCasterBuffer {
+class HeapCone : private ConeArrays, public est::ConeRayCasterBuffer {
  public:
-  HeapLanes(const est::OccupancyGrid& g, std::int32_t bins)
-      : LaneArrays(g, bins),
-        LaneRayCasterBuffer(f.get(), f.get() + n_t, f.get() + 2u * n_t, f.get() + 3u * n_t, base.get(),
-                            static_cast<std::int32_t>(n_t), lane_begin.get(), static_cast<std::uint32_t>(n_lanes + 1u),
-                            entry.get(), static_cast<std::uint32_t>(n_entries), base.get() + n_t + 1u,
-                            base.get() + 2u * n_t + 1u, block.get(), static_cast<std::uint32_t>(n_blocks)) {}
+  HeapCone(const est::OccupancyGrid& g, std::int32_t bins)
+      : ConeArrays(g, bins),
+        ConeRayCasterBuffer(f.get(), f.get() + n_t, static_cast<std::int32_t>(n_t), entry.get(), g.width(), g.height(),
+                            prefix.get(), prefix.get() + w * (h + 1u), f.get() + 2u * n_t, entry.get() + n_t * w * h) {}
 };
 
 // What the range models and recovery precompute from the map; owned by the pipeline.
@@ -88,8 +72,8 @@ struct MapModels {
   est::BeamRangeFinderModel beam;
   std::unique_ptr<HeapHeadingTable> table;
   est::HeadingRangeTable table_view;
-  std::unique_ptr<HeapLanes> lanes;
-  est::LaneRayCaster lanes_view;
+  std::unique_ptr<HeapCone> cone;
+  est::ConeRayCaster cone_view;
 };
 std::unique_ptr<MapModels> build_map_models(const EstimatorSpec& spec, const EstimatorMaps& maps);
 
@@ -138,10 +122,10 @@ template <>
 inline HostBeamScan make_scan_model<HostBeamScan>(const EstimatorSpec& spec, const MapModels& m) {
   return HostBeamScan(m.table_view, m.beam, spec.sensor_mount);
 }
-using HostBeamLaneScan = est::loop::BeamLaneScan<kMaxBeams>;
+using HostBeamConeScan = est::loop::BeamConeScan<kMaxBeams>;
 template <>
-inline HostBeamLaneScan make_scan_model<HostBeamLaneScan>(const EstimatorSpec& spec, const MapModels& m) {
-  return HostBeamLaneScan(m.lanes_view, m.beam, spec.sensor_mount);
+inline HostBeamConeScan make_scan_model<HostBeamConeScan>(const EstimatorSpec& spec, const MapModels& m) {
+  return HostBeamConeScan(m.cone_view, m.beam, spec.sensor_mount);
 }
 using HostSteeredScan = est::loop::SteeredScan<kMaxParticles>;
 template <>
@@ -318,8 +302,8 @@ std::unique_ptr<EstimatorPipeline> make_for_model(const EstimatorSpec& s, const 
     case RangeModel::likelihood_field:
       return std::make_unique<PipelineImpl<Model, Filter::mcl, est::loop::LikelihoodFieldScan>>(s, maps, a, b, sink);
     case RangeModel::beam:
-      if (s.beam_cast == BeamCast::lanes)
-        return std::make_unique<PipelineImpl<Model, Filter::mcl, HostBeamLaneScan>>(s, maps, a, b, sink);
+      if (s.beam_cast == BeamCast::cone)
+        return std::make_unique<PipelineImpl<Model, Filter::mcl, HostBeamConeScan>>(s, maps, a, b, sink);
       return std::make_unique<PipelineImpl<Model, Filter::mcl, HostBeamScan>>(s, maps, a, b, sink);
     case RangeModel::steered:
       if constexpr (std::is_same_v<Model, est::BicycleMotionModel>)

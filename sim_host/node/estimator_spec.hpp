@@ -37,9 +37,9 @@ const char* to_string(RangeModel m);      // "likelihood-field", "beam", "steere
 bool parse(const std::string& s, RangeModel& out);
 
 // Where the beam model's z* comes from: the heading range table (approximate, est/map/heading_range_table.hpp) or
-// the lane caster (exact, est/map/lane_ray_caster.hpp).
-enum class BeamCast : std::uint8_t { table, lanes };
-const char* to_string(BeamCast c);  // "table", "lanes"
+// the cone caster (exact, est/map/cone_ray_caster.hpp).
+enum class BeamCast : std::uint8_t { table, cone };
+const char* to_string(BeamCast c);  // "table", "cone"
 bool parse(const std::string& s, BeamCast& out);
 
 const char* to_string(est::loop::Filter f);  // "mcl", "ekf", "ekf-slam"
@@ -71,7 +71,7 @@ struct EstimatorSpec {
   est::loop::SteeredScanConfig steered{};
   est::LikelihoodFieldParams field{0.85f, 0.05f, 0.10f, 0.2f, 12.0f, 2.0f};
   est::BeamModelParams beam{0.80f, 0.10f, 0.05f, 0.05f, 0.2f, 0.5f, 12.0f, 0.05f};
-  std::int32_t heading_bins = 64;   // the beam model's heading range table (or lane caster) on the host
+  std::int32_t heading_bins = 64;   // the beam model's heading range table (or cone caster) on the host
   BeamCast beam_cast = BeamCast::table;
   std::int32_t beam_stride = 4;
 

@@ -222,10 +222,10 @@ void add_options(CLI::App& app, NodeConfig& c) {
   add_floats(app, "--beam-weights", &e.beam.z_hit, 4, "beam model: z_hit,z_short,z_max,z_rand (sum 1)", sensor);
   app.add_option("--beam-sigma-hit", e.beam.sigma_hit, "beam model: hit spread (m)")->capture_default_str()->group(sensor);
   app.add_option("--beam-lambda-short", e.beam.lambda_short, "beam model: rate of short readings (1/m)")->capture_default_str()->group(sensor);
-  app.add_option("--heading-bins", e.heading_bins, "beam model: headings of the range table or lane caster (a power of two)")->capture_default_str()->group(sensor);
-  add_choice(app, "--beam-cast", e.beam_cast, {"table", "lanes"},
+  app.add_option("--heading-bins", e.heading_bins, "beam model: headings of the range table or cone caster (a power of two)")->capture_default_str()->group(sensor);
+  add_choice(app, "--beam-cast", e.beam_cast, {"table", "cone"},
              "beam model: z* from the heading range table (approximate: mean error 0.55 m on the Intel map at 64 "
-             "headings) or the lane caster (exact: the exact traversal's ranges, est/map/lane_ray_caster.hpp)", sensor);
+             "headings) or the cone caster (exact: the exact traversal's ranges, est/map/cone_ray_caster.hpp)", sensor);
   add_floats(app, "--handlebar", &e.steered.mount.pivot_x, 2,
              "steered: the steering axis in the robot frame pivot_x,pivot_y (m)", sensor);
   add_pose(app, "--handlebar-sensor", e.steered.mount.sensor_on_part, nullptr,

@@ -399,7 +399,7 @@ void read_filter(Section& f, FilterOptions& fo) {
   fo.start = start == "global" ? StartKind::global : StartKind::tracking;
   const std::string model = f.choice("sensor_model", "likelihood-field", {"likelihood-field", "beam", "steered"});
   node::parse(model, fo.range_model);
-  node::parse(f.choice("beam_cast", "table", {"table", "lanes"}), fo.beam_cast);
+  node::parse(f.choice("beam_cast", "table", {"table", "cone"}), fo.beam_cast);
   fo.particles = static_cast<std::uint32_t>(f.integer("particles", fo.particles, 1, 20000));
   fo.kld = f.boolean("kld", fo.kld);
   fo.kld_min = static_cast<std::uint32_t>(f.integer("kld_min", fo.kld_min, 1, 20000));

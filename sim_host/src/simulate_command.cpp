@@ -209,9 +209,9 @@ void add_simulate_command(CLI::App& app) {
       ->check(CLI::IsMember({"likelihood-field", "beam", "steered"}))->default_str("likelihood-field");
   c->add_option_function<std::string>(
        "--beam-cast", [filter](const std::string& v) { node::parse(v, filter->beam_cast); },
-       "beam model: z* from the heading range table (approximate) or the lane caster (exact, "
-       "est/map/lane_ray_caster.hpp)")
-      ->check(CLI::IsMember({"table", "lanes"}))->default_str("table");
+       "beam model: z* from the heading range table (approximate) or the cone caster (exact, "
+       "est/map/cone_ray_caster.hpp)")
+      ->check(CLI::IsMember({"table", "cone"}))->default_str("table");
   c->add_option("--handle-positions", filter->handle_positions,
                 "steered: handle positions across the steering stops (0: the steering reading taken as exact)")
       ->capture_default_str()->check(CLI::Range(0, 16));

@@ -6,11 +6,13 @@
 //   exact ray cast 230-240 ns/ray, distance-transform ray cast 150-180 ns/ray; distance transform build ~19 ms;
 //   beam model ~140 ns per particle-beam with the exact caster, ~120 ns with the accelerated one (the cast
 //   dominates; the density alone is ~11 ns); likelihood field ~3.4 ns per particle-beam.
-// The exact lane caster (est/map/lane_ray_caster.hpp, 64 headings, 22.4 MiB, built in ~0.5-0.75 s), measured
-// 2026-12-04 side by side on the same machine under a load of ~10 on 2 cores (CPU time, medians of 3): beam model
-// 102 ns per particle-beam against 159 (exact caster) and 131 (distance transform), the density alone 12 ns; the
-// cast from random free cells in random directions 453 ns against 309 and 239 (no locality: cache misses in 22 MiB
-// and an atan2 per ray, where the beam model reads the lanes near its particle cloud and no atan2).
+// The exact cone caster (est/map/cone_ray_caster.hpp, 64 headings, 46 MiB, built in ~0.45 s), measured 2026-12-06
+// on a quiet machine (CPU time, medians of 3), Intel map: beam model 92 ns per particle-beam against 144 (distance
+// transform) and 218 (exact caster), the density alone 17 ns; side by side with the lane caster it replaced, 93
+// against 105 ns. The cast from random free cells in random directions is slower than the exact caster's (463-616
+// against 301-344 ns: no locality, cache misses in 46 MiB, and an atan2 per ray, where the beam model reads the
+// table near its particle cloud and no atan2). Without ../shared the map is a tiled synthetic office: set
+// EST_SHARED_DIR=<the shared directory> to measure on the Intel map.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -21,11 +23,10 @@
 
 #include "est/map/cone_ray_caster.hpp"
 #include "est/map/distance_transform.hpp"
-#include "est/map/lane_ray_caster.hpp"
 #include "est/map/ray_casting.hpp"
 #include "est/random/xoshiro128.hpp"
 #include "est/sensor/beam_range_finder_model.hpp"
-#include "est/sensor/beam_range_finder_model_lanes.hpp"
+#include "est/sensor/beam_range_finder_model_cone.hpp"
 #include "est/sensor/beam_readings.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
 #include "world/office_map.hpp"
@@ -39,16 +40,11 @@ est::PreparedScan<360> g_scan;
 est::LikelihoodField g_field;
 est::BeamRangeFinderModel g_beam;
 std::string g_map_name;
-// The lane caster (exact, lane_ray_caster.hpp): room for the Intel map at up to 256 headings' worth of entries.
-constexpr std::int32_t kLaneBins = 64;
-est::LaneRayCasterStorage<256, 300000, 12000000, 12000000> g_lanes;
-double g_lanes_build_ms = 0.0;
-est::BeamBearingsStorage<360> g_bearings;
 // The cone caster (exact, cone_ray_caster.hpp): one byte per cell and heading.
 constexpr std::int32_t kConeBins = 64;
 est::ConeRayCasterStorage<64, 888, 848> g_cone;
 double g_cone_build_ms = 0.0;
-est::BeamBearingsStorage<360> g_cone_bearings;
+est::BeamBearingsStorage<360> g_bearings;
 est::BeamReadingsStorage<360> g_readings;
 
 struct Ray {
@@ -87,11 +83,9 @@ void setup() {
   }
   g_edt.build(g_grid.grid());
   const auto t0 = std::chrono::steady_clock::now();
-  if (g_lanes.build(g_grid.grid(), kLaneBins) != est::LaneRayCasterStatus::ok) std::printf("lane caster build FAILED\n");
-  g_lanes_build_ms = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const auto t1 = std::chrono::steady_clock::now();
-  if (g_cone.build(g_grid.grid(), kConeBins) != est::ConeRayCasterStatus::ok) std::printf("cone caster build FAILED\n");
-  g_cone_build_ms = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  if (g_cone.build(g_grid.grid(), kConeBins) != est::ConeRayCasterStatus::ok)
+    std::printf("cone caster build FAILED\n");
+  g_cone_build_ms = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   est::Rng rng(1u);
   while (g_rays.size() < 8192) {
     float x = 0.0f, y = 0.0f;
@@ -116,8 +110,7 @@ void setup() {
   est::BeamModelParams bp;
   bp.range_max = 30.0f;
   g_beam.configure(bp);
-  g_bearings.prepare(g_scan.beams(), kLaneBins);
-  g_cone_bearings.prepare(g_scan.beams(), kConeBins);
+  g_bearings.prepare(g_scan.beams(), kConeBins);
   g_readings.prepare(g_scan.beams(), g_beam);
   est::LikelihoodFieldParams lp;
   lp.range_max = 30.0f;
@@ -139,12 +132,10 @@ void BM_RayCastExact(benchmark::State& state) { cast_rays(state, est::GridRayCas
 void BM_RayCastDistanceTransform(benchmark::State& state) {
   cast_rays(state, est::DistanceTransformRayCaster(g_grid.grid(), g_edt.view()));
 }
-void BM_RayCastLanes(benchmark::State& state) { cast_rays(state, g_lanes.view()); }
 void BM_RayCastCone(benchmark::State& state) { cast_rays(state, g_cone.view()); }
 BENCHMARK(BM_RayCastCone)->Arg(5)->Arg(10)->Arg(30);
 BENCHMARK(BM_RayCastExact)->Arg(5)->Arg(10)->Arg(30);
 BENCHMARK(BM_RayCastDistanceTransform)->Arg(5)->Arg(10)->Arg(30);
-BENCHMARK(BM_RayCastLanes)->Arg(5)->Arg(10)->Arg(30);
 
 void BM_DistanceTransformBuild(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(g_edt.build(g_grid.grid()));
@@ -165,31 +156,20 @@ void BM_BeamModelExactCaster(benchmark::State& state) { beam_model(state, est::G
 void BM_BeamModelDistanceTransformCaster(benchmark::State& state) {
   beam_model(state, est::DistanceTransformRayCaster(g_grid.grid(), g_edt.view()));
 }
-// The lane caster through its beam-model overload: bearings and readings prepared once per scan, no atan2 per beam,
-// the densities multiplied (beam_range_finder_model_lanes.hpp). Exact: the same z* as the exact caster.
-void BM_BeamModelLanes(benchmark::State& state) {
-  const est::ScanBeams b = g_scan.beams();
-  const est::LaneRayCaster lanes = g_lanes.view();
-  std::size_t i = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(est::beam_range_finder_model(b, g_bearings.view(), g_readings.view(),
-                                                          g_particles[i++ % 1000], {}, lanes, g_beam));
-  }
-  state.SetItemsProcessed(state.iterations() * b.count);
-}
-BENCHMARK(BM_BeamModelExactCaster);
-BENCHMARK(BM_BeamModelDistanceTransformCaster);
-BENCHMARK(BM_BeamModelLanes);
+// The cone caster through its beam-model overload: bearings and readings prepared once per scan, no atan2 per beam,
+// the densities multiplied (beam_range_finder_model_cone.hpp). Exact: the same z* as the exact caster.
 void BM_BeamModelCone(benchmark::State& state) {
   const est::ScanBeams b = g_scan.beams();
   const est::ConeRayCaster cone = g_cone.view();
   std::size_t i = 0;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(est::beam_range_finder_model_over_bins(b, g_cone_bearings.view(), g_readings.view(),
-                                                                    g_particles[i++ % 1000], {}, cone, g_beam));
+    benchmark::DoNotOptimize(est::beam_range_finder_model(b, g_bearings.view(), g_readings.view(),
+                                                          g_particles[i++ % 1000], {}, cone, g_beam));
   }
   state.SetItemsProcessed(state.iterations() * b.count);
 }
+BENCHMARK(BM_BeamModelExactCaster);
+BENCHMARK(BM_BeamModelDistanceTransformCaster);
 BENCHMARK(BM_BeamModelCone);
 
 void BM_BeamModelDensityOnly(benchmark::State& state) {
@@ -224,9 +204,6 @@ int main(int argc, char** argv) {
               2 * g_grid.grid().cell_count(), est::DistanceTransformStorage<1024, 1024>::kBytes);
   std::printf("memory: likelihood field table %zu bytes (%d entries used), shares the distance transform\n",
               sizeof(est::LikelihoodField), g_field.table_entries());
-  std::printf("memory: lane caster, %d headings: %u entries, %u lanes = %u bytes used (%.1f MiB), built in %.0f ms\n",
-              kLaneBins, g_lanes.entries(), g_lanes.lanes(), g_lanes.bytes_used(),
-              static_cast<double>(g_lanes.bytes_used()) / 1048576.0, g_lanes_build_ms);
   {
     const est::GridRayCaster exact(g_grid.grid());
     const est::ConeRayCaster cone = g_cone.view();
@@ -239,7 +216,8 @@ int main(int argc, char** argv) {
       within += std::fabs(a - c) <= 0.05f;
       worst = std::fmax(worst, std::fabs(a - c));
     }
-    std::printf("cone caster, %d headings: %.1f MiB, built in %.0f ms; %d of %d rays the same float, %d within a cell, worst %.3f m\n",
+    std::printf("memory: cone caster, %d headings: %.1f MiB, built in %.0f ms; %d of %d random rays the same float "
+                "as the exact caster, %d within a cell, worst %.3f m\n",
                 kConeBins, static_cast<double>(g_cone.bytes_used()) / 1048576.0, g_cone_build_ms, same, n, within,
                 static_cast<double>(worst));
   }

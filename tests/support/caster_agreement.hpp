@@ -1,13 +1,15 @@
 #pragma once
-// How far a ray caster's ranges are from the exact traversal's (GridRayCaster): the accuracy check of the
-// accelerated exact casters (lane caster, cone caster).
+// How far a ray caster's ranges are from the exact traversal's (GridRayCaster), over the same rays and scans for
+// every caster: the accuracy checks of the cone caster and the heading range table.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
 
+#include "est/geometry/pose2.hpp"
 #include "est/map/ray_casting.hpp"
 #include "est/random/xoshiro128.hpp"
+#include "est/sensor/range_scan.hpp"
 
 namespace test_support {
 
@@ -26,23 +28,47 @@ inline void add(Agreement& s, float got, float exact, float cell) {
   s.worst = std::max(s.worst, d);
 }
 
+struct TestRay {
+  float x, y, dx, dy;
+};
+
 // Random starts in free cells, random headings (continuous, so never a table heading).
-template <class Caster>
-Agreement random_rays(const est::OccupancyGrid& g, const Caster& caster, int rays, float max_range,
-                      std::uint64_t seed) {
-  const est::GridRayCaster exact(g);
+inline std::vector<TestRay> random_free_rays(const est::OccupancyGrid& g, int rays, std::uint64_t seed) {
   est::Rng rng(seed);
-  Agreement s;
-  while (s.rays < rays) {
+  std::vector<TestRay> out;
+  while (static_cast<int>(out.size()) < rays) {
     const float x = g.origin_x() + rng.uniform(0.0f, static_cast<float>(g.width()) * g.resolution());
     const float y = g.origin_y() + rng.uniform(0.0f, static_cast<float>(g.height()) * g.resolution());
     const float th = rng.uniform(-est::kPi, est::kPi);
     std::int32_t cx = 0, cy = 0;
     if (!g.world_to_cell(x, y, cx, cy) || g.classify(cx, cy) != est::CellClass::free) continue;
-    const float dx = std::cos(th), dy = std::sin(th);
-    add(s, caster.cast(x, y, dx, dy, max_range), exact.cast(x, y, dx, dy, max_range), g.resolution());
+    out.push_back({x, y, std::cos(th), std::sin(th)});
   }
+  return out;
+}
+
+template <class Caster>
+Agreement random_rays(const est::OccupancyGrid& g, const Caster& caster, int rays, float max_range,
+                      std::uint64_t seed) {
+  const est::GridRayCaster exact(g);
+  Agreement s;
+  for (const TestRay& r : random_free_rays(g, rays, seed))
+    add(s, caster.cast(r.x, r.y, r.dx, r.dy, max_range), exact.cast(r.x, r.y, r.dx, r.dy, max_range),
+        g.resolution());
   return s;
+}
+
+// A 360-beam scan over the full circle cast exactly from `truth` (range limit `max_range`), prepared into `scan`.
+inline bool prepare_exact_scan(const est::OccupancyGrid& g, const est::Pose2& truth, float max_range,
+                               est::PreparedScan<360>& scan) {
+  const est::GridRayCaster exact(g);
+  const est::ScanLayout layout{-est::kPi, est::kTwoPi / 360.0f, 360, 0.05f, max_range};
+  std::vector<float> ranges(360);
+  for (int k = 0; k < 360; ++k) {
+    const float a = truth.theta + layout.angle_min + static_cast<float>(k) * layout.angle_increment;
+    ranges[static_cast<std::size_t>(k)] = exact.cast(truth.x, truth.y, std::cos(a), std::sin(a), max_range);
+  }
+  return scan.prepare(layout, ranges.data(), 1) == est::ScanStatus::ok;
 }
 
 // Rays from every 7th free cell centre at multiples of 45 deg: through cell corners and along grid lines, where

@@ -11,13 +11,11 @@
 #include "est/filter/free_space_sampler.hpp"
 #include "est/map/cone_ray_caster.hpp"
 #include "est/map/distance_transform.hpp"
-#include "est/map/lane_ray_caster.hpp"
 #include "est/map/ray_casting.hpp"
 #include "est/motion/bicycle_model.hpp"
 #include "est/motion/motion_batch.hpp"
 #include "est/sensor/beam_range_finder_model.hpp"
 #include "est/sensor/beam_range_finder_model_cone.hpp"
-#include "est/sensor/beam_range_finder_model_lanes.hpp"
 #include "est/sensor/likelihood_field_grid.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
 #include "est/sensor/range_scan.hpp"
@@ -37,16 +35,12 @@ est::LikelihoodFieldGridStorage<160, 120> g_field_grid;
 est::LikelihoodField g_field;
 est::PreparedScan<kK> g_scan;
 est::AugmentedMcl<kN> g_mcl(est::MclConfig{}, 0u);
-// The beam model's exact lane caster: 32 headings, blocks of 64 cells (8 B per entry, 4 per block: 412 KB here).
-constexpr std::int32_t kLaneBins = 32;
-est::LaneRayCasterStorage<kLaneBins, 6000, 40000, 26000> g_lanes;
-est::BeamBearingsStorage<kK> g_bearings;
 // The beam model's exact cone caster: 16 headings, one byte per cell and heading (307 KB here, 77 KB build scratch).
 constexpr std::int32_t kConeBins = 16;
 est::ConeRayCasterStorage<kConeBins, 160, 120> g_cone;
 est::BeamBearingsStorage<kK> g_cone_bearings;
 est::BeamReadingsStorage<kK> g_readings;
-volatile float g_lanes_sink = 0.0f;
+volatile float g_cone_sink = 0.0f;
 
 void build_room() {
   g_grid.configure(160, 120, 0.05f, 0.0f, 0.0f, est::kFreeCell);
@@ -91,8 +85,6 @@ int main() {
   bp.range_max = 8.0f;
   beam.configure(bp);
   const est::DistanceTransformRayCaster caster(grid, g_edt.view());
-  const bool lanes_ok = g_lanes.build(grid, kLaneBins, 64) == est::LaneRayCasterStatus::ok;
-  const est::LaneRayCaster lanes = g_lanes.view();
   const bool cone_ok = g_cone.build(grid, kConeBins) == est::ConeRayCasterStatus::ok;
   const est::ConeRayCaster cone = g_cone.view();
   const est::FreeSpaceSampler free_space(grid, g_edt.view(), 0.2f);
@@ -115,8 +107,8 @@ int main() {
   g_mcl.initialize_gaussian(truth, 0.3f, 0.1f, kN);
 
   Phase predict{"predict"}, predict_batch{"predict_batch"}, lf{"correct_lf"}, lf_scalar{"correct_lf_scalar"},
-      bm{"correct_beam"}, bm_lanes{"correct_beam_lanes"},
-      bm_cone{"correct_beam_cone"}, resample{"resample"};
+      bm{"correct_beam"}, bm_cone{"correct_beam_cone"},
+      resample{"resample"};
   for (int t = 0; t < kSteps; ++t) {
     truth = est::BicycleMotionModel::sample(truth, u, noise, world);
     float ranges[kK];
@@ -143,27 +135,16 @@ int main() {
     board::instruction_counter_start();
     g_mcl.correct([&](const est::Pose2& x) { return est::beam_range_finder_model(z, x, mount, caster, beam); });
     bm.instructions += board::instruction_counter_read();
-    // The same beam model with the exact lane caster (the same z*), bearings and readings prepared per scan.
+    // The same beam model with the exact cone caster (the same z*), bearings and readings prepared per scan.
     board::instruction_counter_start();
-    g_bearings.prepare(z, kLaneBins);
+    g_cone_bearings.prepare(z, kConeBins);
     g_readings.prepare(z, beam);
     {
       // Weights only (the filter is left as it is; the normalization the other corrections count is ~1 %).
       const est::ConstParticleSetView p = g_mcl.particles();
       for (std::uint32_t i = 0; i < p.count; ++i)
-        g_lanes_sink = g_lanes_sink + est::beam_range_finder_model(z, g_bearings.view(), g_readings.view(), p.pose(i),
-                                                                   mount, lanes, beam);
-    }
-    bm_lanes.instructions += board::instruction_counter_read();
-    // And with the exact cone caster (the same z*).
-    board::instruction_counter_start();
-    g_cone_bearings.prepare(z, kConeBins);
-    g_readings.prepare(z, beam);
-    {
-      const est::ConstParticleSetView p = g_mcl.particles();
-      for (std::uint32_t i = 0; i < p.count; ++i)
-        g_lanes_sink = g_lanes_sink + est::beam_range_finder_model(z, g_cone_bearings.view(), g_readings.view(),
-                                                                   p.pose(i), mount, cone, beam);
+        g_cone_sink = g_cone_sink + est::beam_range_finder_model(z, g_cone_bearings.view(), g_readings.view(),
+                                                                 p.pose(i), mount, cone, beam);
     }
     bm_cone.instructions += board::instruction_counter_read();
     board::instruction_counter_start();
@@ -186,7 +167,6 @@ int main() {
   print_phase(lf, pb);
   print_phase(lf_scalar, pb);
   print_phase(bm, pb);
-  print_phase(bm_lanes, pb);
   print_phase(bm_cone, pb);
   print_phase(resample, kN);
   board::write("\nbench-mcl " EST_BOARD_NAME " MCL step (predict + likelihood field + resample): ");
@@ -200,7 +180,6 @@ int main() {
   board::report_budget("bench.mcl.predict_batch", predict_batch.instructions / kSteps, "instructions");
   board::report_budget("bench.mcl.likelihood_field", lf.instructions / kSteps, "instructions");
   board::report_budget("bench.mcl.beam_model", bm.instructions / kSteps, "instructions");
-  board::report_budget("bench.mcl.beam_model_lanes", bm_lanes.instructions / kSteps, "instructions");
   board::report_budget("bench.mcl.beam_model_cone", bm_cone.instructions / kSteps, "instructions");
   board::report_budget("bench.mcl.resample", resample.instructions / kSteps, "instructions");
   board::report_budget("bench.mcl.step",
@@ -219,7 +198,6 @@ int main() {
   const float dx = e.mean.x - truth.x, dy = e.mean.y - truth.y;
   const bool tracking = dx * dx + dy * dy < 0.25f;  // a sanity check that the counted work is real filtering
   board::write(tracking ? "bench-mcl estimate within 0.5 m of the truth\n" : "bench-mcl FAIL estimate lost\n");
-  if (!lanes_ok) board::write("bench-mcl FAIL lane caster build\n");
   if (!cone_ok) board::write("bench-mcl FAIL cone caster build\n");
-  return tracking && calibrated && lanes_ok && cone_ok ? 0 : 1;
+  return tracking && calibrated && cone_ok ? 0 : 1;
 }

@@ -31,7 +31,7 @@ struct FilterOptions {
   // Thrun tables 7.2/7.3), tracking from a Gaussian at the true start; it needs a world with landmarks.
   est::loop::Filter filter = est::loop::Filter::mcl;
   node::RangeModel range_model = node::RangeModel::likelihood_field;  // MCL's
-  node::BeamCast beam_cast = node::BeamCast::table;  // the beam model's z*: heading table, or the exact lane caster
+  node::BeamCast beam_cast = node::BeamCast::table;  // the beam model's z*: heading table, or the exact cone caster
   StartKind start = StartKind::global;
   // The steered range model (a rangefinder on the handlebar): the handle positions (0: the steering reading taken as
   // exact), how far the filter trusts the reading, and the steering noise while no steering is known.

@@ -7,8 +7,9 @@
 //  - BeamTableScan<KMax>: z* read from a HeadingRangeTable (est/map/heading_range_table.hpp: 2 T bytes per cell,
 //    the synthetic office at T = 64 is 14.6 MiB, the Intel map 92 MiB; its error against the exact cast is stated
 //    there), with the beams' bearings and the readings' per-scan terms prepared once per scan: the host's path.
-//  - BeamLaneScan<KMax>: z* cast exactly by a LaneRayCaster (est/map/lane_ray_caster.hpp: the same floats as
-//    GridRayCaster; Intel map at T = 64: 22 MiB), bearings and readings prepared once per scan as the table's.
+//  - BeamConeScan<KMax>: z* cast exactly by a ConeRayCaster (est/map/cone_ray_caster.hpp: the same floats as
+//    GridRayCaster; T bytes per cell, the Intel map at T = 64: 46 MiB), bearings and readings prepared once per
+//    scan as the table's.
 // Both weigh a particle by the book's product over the beams (in log space).
 #include <cstdint>
 
@@ -16,9 +17,9 @@
 #include "est/geometry/pose2.hpp"
 #include "est/loop/likelihood_field_scan.hpp"
 #include "est/map/heading_range_table.hpp"
-#include "est/map/lane_ray_caster.hpp"
+#include "est/map/cone_ray_caster.hpp"
 #include "est/sensor/beam_range_finder_model.hpp"
-#include "est/sensor/beam_range_finder_model_lanes.hpp"
+#include "est/sensor/beam_range_finder_model_cone.hpp"
 #include "est/sensor/beam_range_finder_model_table.hpp"
 #include "est/sensor/beam_readings.hpp"
 #include "est/sensor/range_scan.hpp"
@@ -94,32 +95,32 @@ class BeamTableScan {
 };
 
 template <std::int32_t KMax>
-class BeamLaneScan {
+class BeamConeScan {
  public:
   // The caster and the model outlive this.
-  BeamLaneScan(const LaneRayCaster& lanes, const BeamRangeFinderModel& model, const Pose2& mount = {})
-      : lanes_(&lanes), model_(&model), mount_(mount) {}
-  BeamLaneScan(const BeamLaneScan& o) : lanes_(o.lanes_), model_(o.model_), mount_(o.mount_) {}
-  BeamLaneScan& operator=(const BeamLaneScan&) = delete;
+  BeamConeScan(const ConeRayCaster& cone, const BeamRangeFinderModel& model, const Pose2& mount = {})
+      : cone_(&cone), model_(&model), mount_(mount) {}
+  BeamConeScan(const BeamConeScan& o) : cone_(o.cone_), model_(o.model_), mount_(o.mount_) {}
+  BeamConeScan& operator=(const BeamConeScan&) = delete;
 
   template <std::uint32_t N>
   CorrectionReport correct(AugmentedMcl<N>& mcl, const ScanBeams& beams, const ScanContext&) {
-    bearings_.prepare(beams, lanes_->bins());
+    bearings_.prepare(beams, cone_->bins());
     readings_.prepare(beams, *model_);
     const BeamBearings b = bearings_.view();
     const BeamReadings r = readings_.view();
     const Pose2 mount = mount_;
-    const LaneRayCaster& lanes = *lanes_;
+    const ConeRayCaster& cone = *cone_;
     const BeamRangeFinderModel& model = *model_;
     return mcl.correct(
-        [&](const Pose2& x) { return beam_range_finder_model(beams, b, r, x, mount, lanes, model); },
+        [&](const Pose2& x) { return beam_range_finder_model(beams, b, r, x, mount, cone, model); },
         beam_scale(beams, model));
   }
 
   const Pose2& mount() const { return mount_; }
 
  private:
-  const LaneRayCaster* lanes_;
+  const ConeRayCaster* cone_;
   const BeamRangeFinderModel* model_;
   Pose2 mount_;
   BeamBearingsStorage<KMax> bearings_;

@@ -16,20 +16,23 @@
 // (x0, y0) in [cx, cx + 1] x [cy, cy + 1] reaches column cx + i after a horizontal run of at least i - 1 cells, so
 // its path is at least (i - 1) / max|cos| over the cone; within column cx + i its run is in [max(0, i - 1), i + 1],
 // so its y lies in [cy + run m_lo, cy + 1 + run m_hi] (m the slope over the cone): a fixed range of rows relative
-// to cy. The entry is the smallest bound over the first k + 1 columns whose rows hold an occupied cell (a prefix
-// count per column), and beyond them k / max|cos| plus the smallest entry of the cells in column cx + k + 1 the cone
-// enters it through (the same bound, from their squares). Stored per cell as one byte: 0 occupied, 1 a free cell
-// whose bound is under one cell (take a step), e >= 2 a jump of e - 1 cells less 1/64 (float rounding); 255 also
-// for bounds of 254 cells or more and for cones that leave the map without an obstacle.
+// to cy. The entry is the smallest bound over the first k + 1 columns (k = kDirect = 16) whose rows hold an
+// occupied cell (a prefix count per column), and beyond them k / max|cos| plus the smallest entry of the cells in
+// column cx + k + 1 the cone enters it through (the same bound, from their squares). Stored per cell as one byte:
+// 0 occupied, 1 a free cell whose bound is under one cell (take a step), e >= 2 a jump of e - 1 cells less 1/64
+// (float rounding); 255 also for bounds of 254 cells or more and for cones that leave the map without an obstacle.
 //
 // Conventions are GridRayCaster's: unknown cells are free; a start in an occupied cell, outside the map or
 // non-finite returns 0; no hit before max_range or the map's edge returns max_range.
-// Memory: T bytes per cell (Intel map 888 x 848 at T = 64: 48.2 MB; the board's room 160 x 120 at T = 16: 307 KB),
-// plus T x 8 bytes of headings; the build's scratch, 2 bytes per cell and line for two prefix counts.
-// Cost: a handful of jumps and steps per ray (bench_sensor_models; tests/test_cone_ray_caster.cpp prints the
-// accuracy against GridRayCaster). Every loop is bounded: a jump advances the ray by at least 63/64 cell and a step
-// moves it one cell, so a cast ends within 3 (W + H) + 8 iterations.
-// Build: for each heading, (k + 2) prefix-count reads per cell (k = 16); meant for start-up or the host.
+// Memory: T bytes per cell (Intel map 888 x 848 at T = 64: 46 MiB; the board's room 160 x 120 at T = 16: 307 KB),
+// plus 8 bytes per heading; the build's scratch: two prefix counts (2 bytes per cell each), a byte per cell and a
+// line of floats.
+// Cost (bench_sensor_models, Intel map, T = 64): 2.3 jumps and 2.3 exact steps per cast in the beam model, 92 ns per
+// particle-beam on the host; 538 instructions per particle-beam on the M4F at T = 16 (bench_mcl, README). Every loop
+// is bounded: a jump advances the ray by at least 63/64 cell and a step moves it one cell, so a cast ends within
+// 3 (W + H) + 8 iterations; the accuracy is tested against GridRayCaster (tests/test_cone_ray_caster.cpp).
+// Build: per heading, kDirect + 1 prefix-count reads and a window of bounds per cell, in loops over whole lines;
+// ~0.45 s for the Intel map at T = 64 on the host, meant for start-up or the host.
 #include <cstdint>
 
 #include "est/map/occupancy_grid.hpp"
@@ -112,14 +115,7 @@ class ConeRayCaster {
     for (std::int32_t n = 0; n < bound; ++n) {
       if (e >= 2u) {
         t += static_cast<float>(e) - (1.0f + 1.0f / 64.0f);
-        if (!(t < r.t_max)) return max_range;
-        const float px = r.gx + t * r.dx;
-        const float py = r.gy + t * r.dy;
-        if (!(px >= 0.0f && py >= 0.0f && px < fw && py < fh)) return max_range;
-        r.ix = static_cast<std::int32_t>(px);
-        r.iy = static_cast<std::int32_t>(py);
-        if (r.ix >= w) r.ix = w - 1;
-        if (r.iy >= h) r.iy = h - 1;
+        if (!(t < r.t_max) || !r.land(t, w, h, fw, fh)) return max_range;
       } else {
         t = r.step();
         if (!(t < r.t_max) || !grid_.contains(r.ix, r.iy)) return max_range;

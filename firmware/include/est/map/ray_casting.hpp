@@ -77,6 +77,18 @@ struct GridRay {
   static constexpr float kNever = 3.0e38f;
   float t_x() const { return step_x != 0 ? (static_cast<float>(ix + ahead_x) - gx) * inv_dx : kNever; }
   float t_y() const { return step_y != 0 ? (static_cast<float>(iy + ahead_y) - gy) * inv_dy : kNever; }
+  // Moves to the cell the ray is in at parameter t (cells), after a jump; false when that point is off the map of
+  // w x h cells (fw, fh the same as floats, converted once by the caller).
+  bool land(float t, std::int32_t w, std::int32_t h, float fw, float fh) {
+    const float px = gx + t * dx;
+    const float py = gy + t * dy;
+    if (!(px >= 0.0f && py >= 0.0f && px < fw && py < fh)) return false;
+    ix = static_cast<std::int32_t>(px);
+    iy = static_cast<std::int32_t>(py);
+    if (ix >= w) ix = w - 1;
+    if (iy >= h) iy = h - 1;
+    return true;
+  }
   // Moves into the next cell along the ray; returns the ray parameter (cells) at which it was entered.
   float step() {
     const float tx = t_x();
@@ -137,24 +149,16 @@ class DistanceTransformRayCaster {
     detail::GridRay r;
     if (!r.init(grid_, x, y, dx, dy, max_range)) return 0.0f;
     const std::uint16_t* q = edt_.data();
-    const std::int32_t w = grid_.width();
-    const float fw = static_cast<float>(w);
-    const float fh = static_cast<float>(grid_.height());
+    const std::int32_t w = grid_.width(), h = grid_.height();
+    const float fw = static_cast<float>(w), fh = static_cast<float>(h);
     std::int32_t units = q[r.iy * w + r.ix];
     if (units == 0) return 0.0f;
     float t = 0.0f;
-    const std::int32_t bound = 2 * (w + grid_.height()) + 8;
+    const std::int32_t bound = 2 * (w + h) + 8;
     for (std::int32_t n = 0; n < bound; ++n) {
       if (units >= kMinJumpUnits) {
         t += static_cast<float>(units - kMarginUnits) * (1.0f / 16.0f);
-        if (!(t < r.t_max)) return max_range;
-        const float px = r.gx + t * r.dx;
-        const float py = r.gy + t * r.dy;
-        if (!(px >= 0.0f && py >= 0.0f && px < fw && py < fh)) return max_range;
-        r.ix = static_cast<std::int32_t>(px);
-        r.iy = static_cast<std::int32_t>(py);
-        if (r.ix >= w) r.ix = w - 1;
-        if (r.iy >= grid_.height()) r.iy = grid_.height() - 1;
+        if (!(t < r.t_max) || !r.land(t, w, h, fw, fh)) return max_range;
       } else {
         t = r.step();
         if (!(t < r.t_max) || !grid_.contains(r.ix, r.iy)) return max_range;

@@ -45,7 +45,7 @@ class BeamBearingsBuffer {
   bool prepare(const ScanBeams& z, const HeadingRangeTable& table) {
     return table.valid() ? prepare(z, table.bins()) : prepare(z, 0);
   }
-  // The same for any structure of `bins` headings 2 pi b / bins (e.g. LaneRayCaster); false when bins <= 0.
+  // The same for any structure of `bins` headings 2 pi b / bins (e.g. ConeRayCaster); false when bins <= 0.
   bool prepare(const ScanBeams& z, std::int32_t bins) {
     count_ = 0;
     bins_ = 0;
@@ -114,7 +114,7 @@ inline float beam_range_finder_model(const ScanBeams& z, const BeamBearings& bea
 // parameters (else K * kBeamLogDensityFloor).
 // The loop of the overload below over any caster of heading bins (valid(), bins(), bins_per_rad(), origin(),
 // cast_from(): the sensor's cell found once per particle):
-// the heading table here, the exact lane caster in beam_range_finder_model_lanes.hpp.
+// the heading table here, the exact cone caster in beam_range_finder_model_cone.hpp.
 template <typename BinCaster>
 inline float beam_range_finder_model_over_bins(const ScanBeams& z, const BeamBearings& bearings,
                                                const BeamReadings& readings, const Pose2& x, const Pose2& mount,
