@@ -265,6 +265,17 @@ TEST_CASE("a replay refuses a file that is not an LCM log, and replays a cut log
   CHECK(summary_of(*cut).find("problems=1") != std::string::npos);
 }
 
+TEST_CASE("a beam-model table no host has room for is refused before it is allocated, naming the option", "[node]") {
+  // The office map (400 x 300 cells) at 65 536 headings: the cone caster's 7500 MiB, the range table's 15 000 MiB.
+  for (const char* cast : {"cone", "table"}) {
+    INFO(cast);
+    const node::NodeConfig c = node_config(replay_args(
+        tmp("stream.lcmlog"), tmp("huge_out.lcmlog"),
+        {"--sensor-model", "beam", "--beam-cast", cast, "--heading-bins", "65536"}));
+    CHECK_THROWS_WITH(node::Node(c), Catch::Contains("MiB") && Catch::Contains("lower --heading-bins"));
+  }
+}
+
 TEST_CASE("with the EKF (--filter ekf) a replay of landmark sightings is deterministic and tracks the truth", "[node]") {
   const OfficeStream& s = stream();
   REQUIRE(s.landmark_messages > 20u);

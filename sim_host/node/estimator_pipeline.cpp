@@ -92,6 +92,17 @@ std::unique_ptr<MapModels> build_map_models(const EstimatorSpec& s, const Estima
   if (s.range_model == RangeModel::beam) {
     if (m->beam.configure(s.beam) != est::SensorModelStatus::ok)
       throw std::invalid_argument("beam model: bad parameters (the four weights must sum to 1, sigma, lambda > 0)");
+    // The cone caster takes one byte per cell and heading, the range table two: a size no host has is refused
+    // before it is allocated, with the option that sets it.
+    const double mib = static_cast<double>(maps.grid.cell_count()) * static_cast<double>(s.heading_bins) *
+                       (s.beam_cast == BeamCast::cone ? 1.0 : 2.0) / 1048576.0;
+    if (mib > 4096.0)
+      throw std::invalid_argument(std::string("beam model: the ") +
+                                  (s.beam_cast == BeamCast::cone ? "cone caster" : "heading range table") + " would take " +
+                                  std::to_string(static_cast<long long>(mib)) + " MiB (" +
+                                  std::to_string(maps.grid.width()) + " x " + std::to_string(maps.grid.height()) +
+                                  " cells, " + std::to_string(s.heading_bins) +
+                                  " headings), over 4096: lower --heading-bins or use a coarser map");
     if (s.beam_cast == BeamCast::cone) {
       m->cone = std::make_unique<HeapCone>(maps.grid, s.heading_bins);
       if (m->cone->build(maps.grid, s.heading_bins) != est::ConeRayCasterStatus::ok)
