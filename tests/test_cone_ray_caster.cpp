@@ -193,10 +193,8 @@ TEST_CASE("beam model on the cone caster gives the exact caster's densities, the
   build(64);
   const est::ConeRayCaster cone = g_cone.view();
   const est::GridRayCaster exact(g_grid.grid());
-  est::BeamModelParams bp;
-  bp.range_max = 20.0f;
-  est::BeamRangeFinderModel model;
-  REQUIRE(model.configure(bp) == est::SensorModelStatus::ok);
+  const est::BeamRangeFinderModel model = test_support::beam_model(20.0f);
+  REQUIRE(model.ready());
   const est::Pose2 truth{5.5f, 7.3f, 0.3f};
   static est::PreparedScan<360> scan;
   REQUIRE(test_support::prepare_exact_scan(g_grid.grid(), truth, 20.0f, scan));

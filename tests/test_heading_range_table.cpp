@@ -139,10 +139,8 @@ TEST_CASE("beam model on the heading table is close to the exact one and bit-ide
   build(64, 20.0f);
   const est::HeadingRangeTable table = g_table.view();
   const est::GridRayCaster exact(g_grid.grid());
-  est::BeamModelParams bp;
-  bp.range_max = 20.0f;
-  est::BeamRangeFinderModel model;
-  REQUIRE(model.configure(bp) == est::SensorModelStatus::ok);
+  const est::BeamRangeFinderModel model = test_support::beam_model(20.0f);
+  REQUIRE(model.ready());
   // A 360-beam scan cast exactly from a free pose; particles around it.
   const est::Pose2 truth{5.5f, 7.3f, 0.3f};
   static est::PreparedScan<360> scan;

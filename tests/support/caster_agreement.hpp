@@ -9,6 +9,7 @@
 #include "est/geometry/pose2.hpp"
 #include "est/map/ray_casting.hpp"
 #include "est/random/xoshiro128.hpp"
+#include "est/sensor/beam_range_finder_model.hpp"
 #include "est/sensor/range_scan.hpp"
 
 namespace test_support {
@@ -56,6 +57,15 @@ Agreement random_rays(const est::OccupancyGrid& g, const Caster& caster, int ray
     add(s, caster.cast(r.x, r.y, r.dx, r.dy, max_range), exact.cast(r.x, r.y, r.dx, r.dy, max_range),
         g.resolution());
   return s;
+}
+
+// The beam model with the book's default mixture at range limit `max_range` (ready() unless refused).
+inline est::BeamRangeFinderModel beam_model(float max_range) {
+  est::BeamModelParams bp;
+  bp.range_max = max_range;
+  est::BeamRangeFinderModel model;
+  model.configure(bp);
+  return model;
 }
 
 // A 360-beam scan over the full circle cast exactly from `truth` (range limit `max_range`), prepared into `scan`.
