@@ -38,7 +38,7 @@ est::AugmentedMcl<kN> g_mcl(est::MclConfig{}, 0u);
 // The beam model's exact cone caster: 16 headings, one byte per cell and heading (307 KB here, 77 KB build scratch).
 constexpr std::int32_t kConeBins = 16;
 est::ConeRayCasterStorage<kConeBins, 160, 120> g_cone;
-est::BeamBearingsStorage<kK> g_cone_bearings;
+est::BeamBearingsStorage<kK> g_bearings;
 est::BeamReadingsStorage<kK> g_readings;
 volatile float g_cone_sink = 0.0f;
 
@@ -107,8 +107,7 @@ int main() {
   g_mcl.initialize_gaussian(truth, 0.3f, 0.1f, kN);
 
   Phase predict{"predict"}, predict_batch{"predict_batch"}, lf{"correct_lf"}, lf_scalar{"correct_lf_scalar"},
-      bm{"correct_beam"}, bm_cone{"correct_beam_cone"},
-      resample{"resample"};
+      bm{"correct_beam"}, bm_cone{"correct_beam_cone"}, resample{"resample"};
   for (int t = 0; t < kSteps; ++t) {
     truth = est::BicycleMotionModel::sample(truth, u, noise, world);
     float ranges[kK];
@@ -137,13 +136,13 @@ int main() {
     bm.instructions += board::instruction_counter_read();
     // The same beam model with the exact cone caster (the same z*), bearings and readings prepared per scan.
     board::instruction_counter_start();
-    g_cone_bearings.prepare(z, kConeBins);
+    g_bearings.prepare(z, kConeBins);
     g_readings.prepare(z, beam);
     {
       // Weights only (the filter is left as it is; the normalization the other corrections count is ~1 %).
       const est::ConstParticleSetView p = g_mcl.particles();
       for (std::uint32_t i = 0; i < p.count; ++i)
-        g_cone_sink = g_cone_sink + est::beam_range_finder_model(z, g_cone_bearings.view(), g_readings.view(),
+        g_cone_sink = g_cone_sink + est::beam_range_finder_model(z, g_bearings.view(), g_readings.view(),
                                                                  p.pose(i), mount, cone, beam);
     }
     bm_cone.instructions += board::instruction_counter_read();

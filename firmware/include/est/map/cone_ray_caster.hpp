@@ -187,14 +187,14 @@ class ConeRayCasterBuffer {
       if (x_major) {
         // Lines are columns (u = x), across them y; the slope dy / |dx| is monotone over the cone.
         const float m0 = slope(s_lo, c_lo), m1 = slope(s_hi, c_hi);
-        ax = Axis{c > 0.0f ? 1 : -1, w, hgt, col_, lane_min(m0, m1), lane_max(m0, m1), lane_max_abs(c_lo, c_hi, c),
+        ax = Axis{c > 0.0f ? 1 : -1, w, hgt, col_, smaller(m0, m1), larger(m0, m1), largest_abs(c_lo, c_hi, c),
                   true};
       } else {
         const float m0 = slope(c_lo, s_lo), m1 = slope(c_hi, s_hi);
-        ax = Axis{s > 0.0f ? 1 : -1, hgt, w, row_, lane_min(m0, m1), lane_max(m0, m1), lane_max_abs(s_lo, s_hi, s),
+        ax = Axis{s > 0.0f ? 1 : -1, hgt, w, row_, smaller(m0, m1), larger(m0, m1), largest_abs(s_lo, s_hi, s),
                   false};
       }
-      build_bin(grid, ax, entry_ + static_cast<std::uint32_t>(b) * cells);
+      build_bin(ax, entry_ + static_cast<std::uint32_t>(b) * cells);
     }
     bins_ = bins;
     cells_ = cells;
@@ -228,7 +228,7 @@ class ConeRayCasterBuffer {
     bool x_major;
   };
   static float slope(float across, float along) { return across / fmath::abs(along); }
-  static float lane_max_abs(float a, float b, float c) {
+  static float largest_abs(float a, float b, float c) {
     const float m = fmath::abs(a) > fmath::abs(b) ? fmath::abs(a) : fmath::abs(b);
     return m > fmath::abs(c) ? m : fmath::abs(c);
   }
@@ -239,16 +239,17 @@ class ConeRayCasterBuffer {
   // The rows (across the lines) a cone from a cell's square reaches after a run in [lo, hi] along u: offsets from
   // the cell's own row, widened by 1/1024 cell against rounding.
   static void rows(const Axis& a, float run_lo, float run_hi, std::int32_t& r0, std::int32_t& r1) {
-    const float lo = lane_min(run_lo * a.m_lo, run_hi * a.m_lo);
-    const float hi = 1.0f + lane_max(run_lo * a.m_hi, run_hi * a.m_hi);
+    const float lo = smaller(run_lo * a.m_lo, run_hi * a.m_lo);
+    const float hi = 1.0f + larger(run_lo * a.m_hi, run_hi * a.m_hi);
     r0 = floor_i(lo - 1.0f / 1024.0f);
     r1 = floor_i(hi + 1.0f / 1024.0f);
   }
-  static float lane_min(float a, float b) { return a < b ? a : b; }
-  static float lane_max(float a, float b) { return a > b ? a : b; }
+  static float smaller(float a, float b) { return a < b ? a : b; }
+  static float larger(float a, float b) { return a > b ? a : b; }
 
   // The lines' bounds in cells (0 for an occupied cell), line after line along u: what the cells beyond a line's
-  // first kDirect + 1 lines read.
+  // first kDirect + 1 lines read. A copy of the table's entries less one, kept because an x-major bin's lines are
+  // the table's columns, and the window read across them would stride a whole row per cell.
   std::uint8_t* bound_line(std::int32_t u, std::int32_t nv) const {
     return bound_ + static_cast<std::uint32_t>(u) * static_cast<std::uint32_t>(nv);
   }
@@ -289,7 +290,7 @@ class ConeRayCasterBuffer {
     }
   }
 
-  void build_bin(const OccupancyGrid& grid, const Axis& a, std::uint8_t* e) const {
+  void build_bin(const Axis& a, std::uint8_t* e) const {
     const float path_per_run = 1.0f / a.max_cos;  // path >= run / max|cos|
     std::int32_t r0[kDirect + 1], r1[kDirect + 1];
     for (std::int32_t i = 0; i <= kDirect; ++i) {
@@ -314,9 +315,10 @@ class ConeRayCasterBuffer {
       if (un >= 0 && un < a.nu)
         mark_beyond(d, bound_line(un, a.nv), a.nv, h0, h1, static_cast<float>(kDirect) * path_per_run);
       std::uint8_t* out_line = bound_line(u, a.nv);
+      const std::uint16_t* own = a.prefix + static_cast<std::uint32_t>(u) * stride;  // occupied: the count steps
       for (std::int32_t v = 0; v < a.nv; ++v) {
         const std::int32_t x = a.x_major ? u : v, y = a.x_major ? v : u;
-        const bool occupied = grid.is_occupied_value(grid.at(x, y));
+        const bool occupied = own[v + 1] != own[v];
         const std::int32_t di = d[v] >= 254.0f ? 254 : static_cast<std::int32_t>(d[v]);  // floor
         out_line[v] = occupied ? std::uint8_t{0} : static_cast<std::uint8_t>(di);
         e[static_cast<std::uint32_t>(y) * w + static_cast<std::uint32_t>(x)] =
