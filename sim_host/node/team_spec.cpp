@@ -11,7 +11,7 @@
 namespace node {
 
 namespace {
-std::string f(float v) {  // the shortest decimal that reads back as v
+std::string shortest(float v) {  // the shortest decimal that reads back as v
   char b[32];
   for (int digits = 6; digits <= 9; ++digits) {
     std::snprintf(b, sizeof b, "%.*g", digits, static_cast<double>(v));
@@ -73,15 +73,15 @@ void check_team_spec(const TeamSpec& s) {
 
 std::string team_command_line(const TeamSpec& s) {
   const est::team::CoopEkfConfig& c = s.estimator;
-  std::string o = "--filter coop-ekf --team-size " + std::to_string(c.robots) + " --team-step " + f(c.step_s) +
+  std::string o = "--filter coop-ekf --team-size " + std::to_string(c.robots) + " --team-step " + shortest(c.step_s) +
                   " --team-initial ";
-  for (std::size_t i = 0; i < s.initial.size(); ++i) o += (i ? "," : "") + f(s.initial[i]);
-  o += " --team-initial-sigma " + f(s.initial_sigma_m);
+  for (std::size_t i = 0; i < s.initial.size(); ++i) o += (i ? "," : "") + shortest(s.initial[i]);
+  o += " --team-initial-sigma " + shortest(s.initial_sigma_m);
   for (const TeamLandmarkPrior& l : s.landmarks)
-    o += " --team-landmark " + std::to_string(l.id) + "," + f(l.x) + "," + f(l.y);
-  o += " --team-landmark-sigma " + f(s.landmark_sigma_m) + " --team-sigma-range " + f(c.noise.sigma_range) +
-       " --team-sigma-bearing " + f(c.noise.sigma_bearing) + " --team-motion-sigma " + f(c.motion_sigma_mps) +
-       " --team-unknown-speed " + f(c.unknown_speed_mps) + " --team-window " + std::to_string(s.window_steps);
+    o += " --team-landmark " + std::to_string(l.id) + "," + shortest(l.x) + "," + shortest(l.y);
+  o += " --team-landmark-sigma " + shortest(s.landmark_sigma_m) + " --team-sigma-range " + shortest(c.noise.sigma_range) +
+       " --team-sigma-bearing " + shortest(c.noise.sigma_bearing) + " --team-motion-sigma " + shortest(c.motion_sigma_mps) +
+       " --team-unknown-speed " + shortest(c.unknown_speed_mps) + " --team-window " + std::to_string(s.window_steps);
   return o;
 }
 

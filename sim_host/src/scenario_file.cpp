@@ -12,14 +12,13 @@
 #include <sstream>
 #include <vector>
 
+#include "sim/angles.hpp"
 #include "sim/sample_motion.hpp"
 #include "sim/sensor_stream.hpp"
 #include "team/team_scenarios.hpp"
 
 namespace sim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The keys read while scenario_file_keys() parses its documents (null otherwise).
 thread_local std::set<std::string>* g_keys = nullptr;

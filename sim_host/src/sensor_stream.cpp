@@ -14,13 +14,13 @@
 #include "est/sensor/steered_range_finder.hpp"
 #include "est/random/samplers.hpp"
 #include "est/random/xoshiro128.hpp"
+#include "sim/angles.hpp"
 #include "world/landmark_sensor.hpp"
 #include "world/robots.hpp"
 
 namespace sim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr hal::TimeNs kMs = hal::kNsPerMs;
 constexpr float kSimStepS = 0.01f;
 // Nominal delivery latency after the stamp (a scan is stamped at its start and sent after the sweep's processing).
@@ -40,8 +40,6 @@ const est::Pose2 kOdometryReset{10.0f, -5.0f, 1.0f};  // the new odometry frame'
 constexpr float kNanBeamFraction = 0.1f;
 constexpr float kLandmarkSpikeFactor = 3.0f;          // a range_spike feature reads this times the sensor's reach
 constexpr float kLandmarkRangeMargin = 1.0f;          // the HAL accepts features this far beyond the reach (noise)
-
-float wrap(float a) { return std::remainder(a, 6.28318530717958647692f); }
 
 struct StreamSpec {
   StreamKind kind;
@@ -573,7 +571,7 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
     const float steer_cmd = step.steer_rad;
     const est::Pose2 next = pose();
     s.truth.back().v_mps = std::hypot(next.x - p.x, next.y - p.y) / kSimStepS;
-    s.truth.back().omega_rps = wrap(next.theta - p.theta) / kSimStepS;
+    s.truth.back().omega_rps = wrap_angle(next.theta - p.theta) / kSimStepS;
 
     // Twist: the command of this step, held until the next sample.
     if (twists.count > 0 && k % twist_div == 0 && !silent) {

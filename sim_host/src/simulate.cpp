@@ -13,14 +13,12 @@
 #include "node/estimator_pipeline.hpp"
 #include "node/pacer.hpp"
 #include "node/view_feed.hpp"
+#include "sim/angles.hpp"
 
 namespace sim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr std::uint32_t kSnapshotPoints = 4000;
-
-float wrap(float a) { return std::remainder(a, 6.28318530717958647692f); }
 
 // Seconds of a span of the run, to the millisecond (every time in the run is on the 10 ms grid or 1 ms latencies).
 double span_s(hal::TimeNs ns) { return static_cast<double>(ns / hal::kNsPerMs) / 1000.0; }
@@ -191,7 +189,7 @@ OutputRow output_row(const SensorStream& s, const hal::Estimate& e) {
   row.truth = s.truth_at(e.stamp_ns).pose;
   row.estimate = e.pose;
   row.position_error_m = std::hypot(e.pose.x - row.truth.x, e.pose.y - row.truth.y);
-  row.heading_error_rad = std::fabs(wrap(e.pose.theta - row.truth.theta));
+  row.heading_error_rad = std::fabs(wrap_angle(e.pose.theta - row.truth.theta));
   row.sigma_x_m = std::sqrt(std::max(0.0f, e.covariance(0, 0)));
   row.sigma_y_m = std::sqrt(std::max(0.0f, e.covariance(1, 1)));
   row.sigma_theta_rad = std::sqrt(std::max(0.0f, e.covariance(2, 2)));

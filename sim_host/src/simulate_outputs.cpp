@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sim/angles.hpp"
 #include "sim/plot.hpp"
 #include "sim/simulate.hpp"
 
@@ -14,8 +15,6 @@ namespace sim {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = 180.0 / kPi;
 
 double seconds(hal::TimeNs t, hal::TimeNs t0) { return static_cast<double>(t - t0) * 1e-9; }
 
@@ -226,9 +225,9 @@ void plot_errors(const SimResult& r, const ScenarioConfig& sc, const FilterOptio
   {
     std::ofstream f = open(dir / "errors.dat");
     for (const OutputRow& w : r.rows)
-      f << fmt("%.3f", seconds(w.t_ns, t0)) << " " << w.position_error_m << " " << static_cast<double>(w.heading_error_rad) * kDeg << " "
+      f << fmt("%.3f", seconds(w.t_ns, t0)) << " " << w.position_error_m << " " << static_cast<double>(w.heading_error_rad) * kDegPerRad << " "
         << w.particles << " " << std::hypot(w.sigma_x_m, w.sigma_y_m) << " "
-        << static_cast<double>(w.sigma_theta_rad) * kDeg << "\n";
+        << static_cast<double>(w.sigma_theta_rad) * kDegPerRad << "\n";
     std::ofstream g = open(dir / "fault_times.dat");
     for (const InjectedFault& x : r.stream.faults) {
       if (x.key.rfind("event.", 0) == 0) continue;
