@@ -5,7 +5,9 @@
 #ifndef eigen_assert
 #define eigen_assert(x) ((x) ? (void)0 : __builtin_trap())
 #endif
-#ifndef EIGEN_NO_MALLOC
+// EIGEN_NO_MALLOC turns any heap allocation by Eigen into that assertion. Host tools with dynamic matrices of their
+// own (sim_host) define EST_EIGEN_HEAP_ALLOWED for all their files, so that the order of includes cannot decide it.
+#if !defined(EIGEN_NO_MALLOC) && !defined(EST_EIGEN_HEAP_ALLOWED)
 #define EIGEN_NO_MALLOC
 #endif
 
