@@ -1,7 +1,6 @@
 // sim_host import carmen (data/carmen.hpp).
 #include "data/carmen.hpp"
 
-#include <CLI/CLI.hpp>
 #include <est_lcm/ground_truth_t.hpp>
 #include <est_lcm/odometry_t.hpp>
 #include <est_lcm/range_scan_t.hpp>
@@ -475,42 +474,6 @@ CarmenLog read_carmen_log(const std::string& path) {
     }
   });
   return out;
-}
-
-void add_carmen_import(CLI::App& import) {
-  CLI::App* cmd = import.add_subcommand(
-      "carmen", "CARMEN logs (ODOM, FLASER, ROBOTLASER1; gzipped or not), e.g. the Radish / Freiburg SLAM-corrected "
-                "logs: the raw odometry pose on EST_ODOMETRY, the scans on EST_RANGE_SCAN, the corrected poses on "
-                "EST_REFERENCE");
-  auto in = std::make_shared<std::string>();
-  auto out = std::make_shared<std::string>();
-  auto opts = std::make_shared<CarmenImportOptions>();
-  auto on_error = std::make_shared<OnError>(OnError::skip);
-  cmd->add_option("LOG", *in, "a CARMEN log (.log, .clf, .gz)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--out", *out, "the LCM log to write")->required();
-  cmd->add_option("--first-scan", opts->first_scan, "the slice starts at this scan (0-based)")->capture_default_str();
-  cmd->add_option("--max-scans", opts->max_scans, "at most this many scans (0: all)")->capture_default_str();
-  cmd->add_option("--seconds", opts->max_seconds, "only scans within this many seconds of the first (0: all)")
-      ->capture_default_str();
-  cmd->add_option("--no-return", opts->no_return_m, "readings at or beyond this are max-range (0: the log's largest)")
-      ->capture_default_str();
-  cmd->add_option("--max-odometry-gap", opts->max_odometry_gap_s, "longer odometry pauses are bridged (s)")
-      ->capture_default_str();
-  add_on_error_option(*cmd, *on_error);
-  cmd->callback([=] {
-    ImportReport report(*on_error);
-    const CarmenImport r = import_carmen(*in, *out, *opts, report);
-    report.print_summary(stdout, "import carmen: " + *in + " -> " + *out);
-    std::printf("  site %s: %zu scans of %zu beams (%.4f rad apart from %.4f rad, max range %.2f m), %zu odometry "
-                "poses, %.1f .. %.1f s\n",
-                r.site.c_str(), r.scans, r.beams, static_cast<double>(r.geometry.angle_increment_rad),
-                static_cast<double>(r.geometry.angle_min_rad), static_cast<double>(r.geometry.range_max_m), r.odometry,
-                r.t_first_s, r.t_last_s);
-    std::printf("  replay: estimator_node --replay %s --model odometry --sensor-mount %.3f,%.3f,%.3f --range-max %.2f "
-                "--map MAP.yaml ...\n",
-                out->c_str(), static_cast<double>(r.mount.x), static_cast<double>(r.mount.y),
-                static_cast<double>(r.mount.theta), static_cast<double>(r.geometry.range_max_m));
-  });
 }
 
 }  // namespace sim::data

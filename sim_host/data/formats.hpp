@@ -1,17 +1,14 @@
 #pragma once
 // `sim_host import FORMAT INPUT... --out FILE.lcmlog` and `sim_host eval FORMAT INPUT... [--json] [--out DIR]`: one
 // subcommand per dataset format, each in its own file (data/<format>.cpp imports, data/<format>_eval.cpp
-// evaluates). Host only.
+// evaluates; the import subcommands are in data/import_commands.cpp). Host only.
 #include <string>
 
 namespace CLI {
 class App;
-class Option;
 }  // namespace CLI
 
 namespace sim::data {
-
-enum class OnError;
 
 void add_import_command(CLI::App& app);
 void add_eval_command(CLI::App& app);
@@ -25,8 +22,5 @@ void add_carmen_import(CLI::App& import);
 void add_carmen_eval(CLI::App& eval);
 void add_tricycle_import(CLI::App& import);
 void add_tricycle_eval(CLI::App& eval);
-
-// --on-error skip|refuse (default skip), the same on every importer.
-CLI::Option* add_on_error_option(CLI::App& cmd, OnError& out);
 
 }  // namespace sim::data

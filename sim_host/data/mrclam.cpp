@@ -1,7 +1,6 @@
 // sim_host import mrclam (data/mrclam.hpp).
 #include "data/mrclam.hpp"
 
-#include <CLI/CLI.hpp>
 #include <est_lcm/ground_truth_t.hpp>
 #include <est_lcm/landmark_sighting_t.hpp>
 #include <est_lcm/twist_t.hpp>
@@ -406,41 +405,6 @@ MrclamOdometryScales fit_mrclam_odometry_scales(const std::string& dir, double w
     }
   }
   return out;
-}
-
-void add_mrclam_import(CLI::App& import) {
-  CLI::App* cmd = import.add_subcommand(
-      "mrclam", "UTIAS MRCLAM (raw/ or sampled-50hz/ layout, any of its nine datasets): every robot's (v, w), its "
-                "landmark and robot sightings with identities, Vicon ground truth on EST_GROUND_TRUTH_<robot>");
-  auto dir = std::make_shared<std::string>();
-  auto out = std::make_shared<std::string>();
-  auto opts = std::make_shared<MrclamImportOptions>();
-  auto on_error = std::make_shared<OnError>(OnError::skip);
-  auto keep = std::make_shared<bool>(false);
-  cmd->add_option("DIR", *dir, "the dataset's folder, e.g. MRCLAM_Dataset1")->required()->check(CLI::ExistingDirectory);
-  cmd->add_option("--out", *out, "the LCM log to write (the landmark file and arena map go beside it)")->required();
-  cmd->add_option("--robots", opts->robots, "subjects to import")->capture_default_str()->delimiter(',');
-  cmd->add_option("--seconds", opts->max_seconds, "only the first seconds (0: all)")->capture_default_str();
-  cmd->add_flag("--keep-landmark-file", *keep, "import Dataset 1's landmark file as it is (subjects 11, 17 swapped)");
-  add_on_error_option(*cmd, *on_error);
-  cmd->callback([=] {
-    opts->fix_landmarks = !*keep;
-    ImportReport report(*on_error);
-    const MrclamImport r = import_mrclam(*dir, *out, *opts, report);
-    report.print_summary(stdout, "import mrclam: " + *dir + " (" + (r.sampled ? "sampled-50hz" : "raw") +
-                                     " layout, dataset " + std::to_string(r.dataset) + ") -> " + *out);
-    std::printf("  %llu events over %.1f s%s; landmarks: %s; arena map: %s\n",
-                static_cast<unsigned long long>(r.events), r.duration_s,
-                r.sampled ? "" : (", t = 0 at Unix time " + fixed(r.t0_unix_s, 3)).c_str(), r.landmarks_csv.c_str(),
-                r.arena_yaml.c_str());
-    const int s = opts->robots.front();
-    const std::string pose = r.has_ground_truth ? fixed(r.start[s][0], 4) + "," + fixed(r.start[s][1], 4) + "," +
-                                                      fixed(r.start[s][2], 4)
-                                                : std::string("X,Y,THETA");
-    std::printf("  replay robot %d: estimator_node --replay %s --model velocity --filter ekf --landmarks %s "
-                "--ch-twist EST_TWIST_%d --ch-landmarks EST_LANDMARKS_%d --initial-pose %s --out est%d.lcmlog\n",
-                s, out->c_str(), r.landmarks_csv.c_str(), s, s, pose.c_str(), s);
-  });
 }
 
 }  // namespace sim::data

@@ -1,7 +1,6 @@
 // sim_host import tricycle (data/tricycle.hpp).
 #include "data/tricycle.hpp"
 
-#include <CLI/CLI.hpp>
 #include <est_lcm/encoder_ticks_t.hpp>
 #include <est_lcm/ground_truth_t.hpp>
 #include <est_lcm/steering_t.hpp>
@@ -268,55 +267,6 @@ std::vector<TricycleRecord> read_tricycle_log(const std::string& path) {
     }
   });
   return out;
-}
-
-void add_tricycle_import(CLI::App& import) {
-  CLI::App* cmd = import.add_subcommand(
-      "tricycle", "The front-tractor tricycle calibration set (Sapienza): traction ticks (uint32, wrapping) on "
-                  "EST_WHEEL_TICKS, the steering on EST_STEERING (angle) and EST_STEERING_TICKS (raw), the tracked "
-                  "sensor pose on EST_GROUND_TRUTH");
-  auto file = std::make_shared<std::string>();
-  auto out = std::make_shared<std::string>();
-  auto opts = std::make_shared<TricycleImportOptions>();
-  auto on_error = std::make_shared<OnError>(OnError::skip);
-  auto cal = std::make_shared<std::vector<double>>();
-  cmd->add_option("FILE", *file, "the dataset's dataset.txt")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--out", *out, "the LCM log to write")->required();
-  cmd->add_option("--seconds", opts->max_seconds, "only the first seconds (0: all)")->capture_default_str();
-  cmd->add_option("--steering", *cal, "KSTEER,OFFSET: the steering calibration of EST_STEERING (default: the "
-                                      "header's initial guesses)")->delimiter(',')->expected(2);
-  add_on_error_option(*cmd, *on_error);
-  cmd->callback([=] {
-    if (!cal->empty()) {
-      opts->calibrated = true;
-      opts->params.ksteer = (*cal)[0];
-      opts->params.steer_offset = (*cal)[1];
-    }
-    ImportReport report(*on_error);
-    const TricycleImport r = import_tricycle(*file, *out, *opts, report);
-    report.print_summary(stdout, "import tricycle: " + *file + " -> " + *out);
-    const TricycleParams& g = r.header.guess;
-    std::printf("  %llu records over %.1f s, t = 0 at Unix time %.6f; traction counter wrapped %llu times\n",
-                static_cast<unsigned long long>(r.records), r.duration_s, r.t0_unix_s,
-                static_cast<unsigned long long>(r.traction_wraps));
-    std::printf("  header: Ksteer %g, Ktraction %g, axis_length %g, steer_offset %g, encoders %lld / %lld, laser "
-                "(%g, %g, %g)\n", g.ksteer, g.ktraction, g.axis_length, g.steer_offset,
-                static_cast<long long>(r.header.steer_max), static_cast<long long>(r.header.traction_max),
-                g.laser_x, g.laser_y, g.laser_theta);
-    const TricycleParams& s = opts->calibrated ? opts->params : g;
-    std::printf("  EST_STEERING: a = %g * 2 pi * ticks / %lld + %g rad; the bicycle's --metres-per-tick is "
-                "Ktraction / %lld\n", s.ksteer, static_cast<long long>(r.header.steer_max), s.steer_offset,
-                static_cast<long long>(r.header.traction_max));
-    const std::vector<TricycleRecord> records = read_tricycle_log(*out);
-    if (!records.empty()) {
-      const TimedPose f = tricycle_front_wheel(records.front().tracker, s);
-      std::printf("  replay (odometry only, the front wheel): estimator_node --replay %s --model bicycle --filter ekf "
-                  "--frame-length %g --metres-per-tick %.9g --wheel-count 1 --wheel-counter-bits 32 "
-                  "--max-ticks-per-s 1000000 --steer-max 1.55 --max-steer 1.55 --initial-pose %.4f,%.4f,%.4f "
-                  "--out est.lcmlog\n", out->c_str(), s.axis_length,
-                  s.ktraction / static_cast<double>(r.header.traction_max), f.x, f.y, f.theta);
-    }
-  });
 }
 
 }  // namespace sim::data

@@ -1,7 +1,6 @@
 // sim_host import victoria (data/victoria.hpp).
 #include "data/victoria.hpp"
 
-#include <CLI/CLI.hpp>
 #include <est_lcm/encoder_ticks_t.hpp>
 #include <est_lcm/ground_truth_t.hpp>
 #include <est_lcm/landmark_sighting_t.hpp>
@@ -231,43 +230,6 @@ VictoriaLog read_victoria_log(const std::string& path) {
     }
   });
   return out;
-}
-
-void add_victoria_import(CLI::App& import) {
-  CLI::App* cmd = import.add_subcommand(
-      "victoria", "Victoria Park (ACFR): the car as the bicycle at its front axle: the front axle's travel on "
-                  "EST_WHEEL_TICKS (from the rear left wheel's encoder), the steering on EST_STEERING, the tree "
-                  "detections (range, bearing from the front axle, diameter as signature, id -1) on EST_LANDMARKS, "
-                  "GPS on EST_GPS");
-  auto dir = std::make_shared<std::string>();
-  auto out = std::make_shared<std::string>();
-  auto opts = std::make_shared<VictoriaImportOptions>();
-  auto on_error = std::make_shared<OnError>(OnError::skip);
-  cmd->add_option("DIR", *dir, "the dataset's folder (victoria-park/ or its acfr-text-rfsslam/)")
-      ->required()->check(CLI::ExistingDirectory);
-  cmd->add_option("--out", *out, "the LCM log to write")->required();
-  cmd->add_option("--seconds", opts->max_seconds, "only the first seconds (0: all)")->capture_default_str();
-  cmd->add_option("--metres-per-tick", opts->metres_per_tick, "the travel counter's resolution (m)")
-      ->capture_default_str();
-  add_on_error_option(*cmd, *on_error);
-  cmd->callback([=] {
-    ImportReport report(*on_error);
-    const VictoriaImport r = import_victoria(*dir, *out, *opts, report);
-    report.print_summary(stdout, "import victoria: " + r.folder + " -> " + *out);
-    std::printf("  %llu events over %.1f s\n", static_cast<unsigned long long>(r.events), r.duration_s);
-    std::printf("  replay (dead reckoning; the pose is the front axle's middle): estimator_node --replay %s --model "
-                "bicycle --filter ekf --frame-length %.2f --metres-per-tick %g --wheel-count 1 --wheel-counter-bits 32 "
-                "--steer-max 0.8 --max-steer 0.8 --ch-landmarks EST_LANDMARKS_NOT_READ --initial-pose X,Y,THETA "
-                "--out est.lcmlog (sim_host eval victoria finds the start pose from GPS)\n", out->c_str(),
-                opts->geometry.wheelbase, opts->metres_per_tick);
-    std::printf("  replay (EKF-SLAM on the trees, as sim_host eval victoria runs it): estimator_node --replay %s "
-                "--model bicycle --filter ekf-slam --frame-length %.2f --metres-per-tick %g --wheel-count 1 "
-                "--wheel-counter-bits 32 --steer-max 0.8 --max-steer 0.8 --steer-sigma 0.03 --speed-var-per-speed "
-                "0.02 --bicycle-rot-sigma 0 --slam-noise-step 0.025 --predict-hz 40 --ekf-rot-sigma 0.002 "
-                "--landmark-sigma-range 0.5 --landmark-sigma-bearing 0.05 --landmark-max-range 100 --lost-sigma 1000 "
-                "--initial-pose X,Y,THETA --initial-sigma 0.01,0.01 --out est.lcmlog\n",
-                out->c_str(), opts->geometry.wheelbase, opts->metres_per_tick);
-  });
 }
 
 }  // namespace sim::data
