@@ -13,7 +13,6 @@
 #include <fstream>
 #include <limits>
 #include <map>
-#include <regex>
 #include <stdexcept>
 
 #include "data/channels.hpp"
@@ -131,8 +130,10 @@ MrclamImport import_mrclam(const std::string& dir, const std::string& out_log, c
   const std::string folder = fs::path(dir).lexically_normal().filename().string().empty()
                                  ? fs::path(dir).lexically_normal().parent_path().filename().string()
                                  : fs::path(dir).lexically_normal().filename().string();
-  std::smatch m;
-  if (std::regex_search(folder, m, std::regex("Dataset([1-9])$"))) result.dataset = std::stoi(m[1]);
+  const std::string tag = "Dataset";  // the folder's name ends in Dataset1 .. Dataset9
+  if (folder.size() > tag.size() && folder.compare(folder.size() - tag.size() - 1, tag.size(), tag) == 0 &&
+      folder.back() >= '1' && folder.back() <= '9')
+    result.dataset = folder.back() - '0';
   result.sampled = !has_header(file("Robot1_Odometry.dat"));
 
   // Barcodes: the measurement files name barcodes; subjects 1-5 are the robots, 6-20 the landmarks.
