@@ -14,7 +14,6 @@
 #include <filesystem>
 #include <limits>
 #include <map>
-#include <memory>
 #include <stdexcept>
 
 #include "data/channels.hpp"

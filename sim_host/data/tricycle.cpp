@@ -9,13 +9,11 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <memory>
 #include <stdexcept>
 
 #include "data/channels.hpp"
 #include "data/formats.hpp"
 #include "data/line_reader.hpp"
-#include "data/tricycle_eval.hpp"
 #include "hal/lcm/channels.hpp"
 #include "hal/lcm/lcm_log_reader.hpp"
 #include "node/lcm_log_io.hpp"

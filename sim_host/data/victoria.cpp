@@ -12,7 +12,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
-#include <memory>
 #include <stdexcept>
 
 #include "data/channels.hpp"

@@ -79,8 +79,10 @@ std::string team_command_line(const TeamSpec& s) {
   o += " --team-initial-sigma " + shortest(s.initial_sigma_m);
   for (const TeamLandmarkPrior& l : s.landmarks)
     o += " --team-landmark " + std::to_string(l.id) + "," + shortest(l.x) + "," + shortest(l.y);
-  o += " --team-landmark-sigma " + shortest(s.landmark_sigma_m) + " --team-sigma-range " + shortest(c.noise.sigma_range) +
-       " --team-sigma-bearing " + shortest(c.noise.sigma_bearing) + " --team-motion-sigma " + shortest(c.motion_sigma_mps) +
+  o += " --team-landmark-sigma " + shortest(s.landmark_sigma_m) +
+       " --team-sigma-range " + shortest(c.noise.sigma_range) +
+       " --team-sigma-bearing " + shortest(c.noise.sigma_bearing) +
+       " --team-motion-sigma " + shortest(c.motion_sigma_mps) +
        " --team-unknown-speed " + shortest(c.unknown_speed_mps) + " --team-window " + std::to_string(s.window_steps);
   return o;
 }

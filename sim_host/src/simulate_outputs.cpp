@@ -225,7 +225,8 @@ void plot_errors(const SimResult& r, const ScenarioConfig& sc, const FilterOptio
   {
     std::ofstream f = open(dir / "errors.dat");
     for (const OutputRow& w : r.rows)
-      f << fmt("%.3f", seconds(w.t_ns, t0)) << " " << w.position_error_m << " " << static_cast<double>(w.heading_error_rad) * kDegPerRad << " "
+      f << fmt("%.3f", seconds(w.t_ns, t0)) << " " << w.position_error_m << " "
+        << static_cast<double>(w.heading_error_rad) * kDegPerRad << " "
         << w.particles << " " << std::hypot(w.sigma_x_m, w.sigma_y_m) << " "
         << static_cast<double>(w.sigma_theta_rad) * kDegPerRad << "\n";
     std::ofstream g = open(dir / "fault_times.dat");
