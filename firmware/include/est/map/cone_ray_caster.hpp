@@ -10,7 +10,8 @@
 // it without passing an obstacle, reads the entry of the cell it lands in, and so on; where the bound is under one
 // cell it takes one exact step of the traversal instead. The traversal's crossings are computed from the cell index
 // and the ray's start (GridRay::step()), as after a jump of DistanceTransformRayCaster, so the range returned is
-// GridRayCaster's float, except where a jump lands within float rounding of a cell corner.
+// GridRayCaster's float, except where a jump lands within rounding of a cell corner. A jump is integer arithmetic
+// (fixed point, 2^-14 cell): a shorter chain of dependent operations than a float landing, the same bits everywhere.
 //
 // The bound, for a bin whose headings all have cos > 0 (x-dominant, the other three cases by symmetry): a ray from
 // (x0, y0) in [cx, cx + 1] x [cy, cy + 1] reaches column cx + i after a horizontal run of at least i - 1 cells, so
@@ -23,12 +24,14 @@
 // (float rounding); 255 also for bounds of 254 cells or more and for cones that leave the map without an obstacle.
 //
 // Conventions are GridRayCaster's: unknown cells are free; a start in an occupied cell, outside the map or
-// non-finite returns 0; no hit before max_range or the map's edge returns max_range.
+// non-finite returns 0; no hit before max_range or the map's edge returns max_range. A direction must be a unit
+// vector: one with a component beyond 1.5 returns 0, like a non-finite one.
 // Memory: T bytes per cell (Intel map 888 x 848 at T = 64: 46 MiB; the board's room 160 x 120 at T = 16: 307 KB),
 // plus 8 bytes per heading; the build's scratch: two prefix counts (2 bytes per cell each), a byte per cell and a
 // line of floats.
-// Cost (bench_sensor_models, Intel map, T = 64): 2.3 jumps and 2.3 exact steps per cast in the beam model, 92 ns per
-// particle-beam on the host; 538 instructions per particle-beam on the M4F at T = 16 (bench_mcl, README). Every loop
+// Cost (bench_sensor_models, Intel map, T = 64): 2.3 jumps and 2.3 exact steps per cast in the beam model, 56-59 ns
+// per particle-beam on the host (86 ns with float jumps, side by side); 540 instructions per particle-beam on the M4F
+// at T = 16 (bench_mcl, README). Every loop
 // is bounded: a jump advances the ray by at least 63/64 cell and a step moves it one cell, so a cast ends within
 // 3 (W + H) + 8 iterations; the accuracy is tested against GridRayCaster (tests/test_cone_ray_caster.cpp).
 // Build: per heading, kDirect + 1 prefix-count reads and a window of bounds per cell, in loops over whole lines;
@@ -102,23 +105,41 @@ class ConeRayCaster {
     if (!o.walk) return 0.0f;
     detail::GridRay r = o.ray;
     if (!r.aim(grid_, dx, dy, max_range)) return 0.0f;
+    if (!(fmath::abs(dx) <= 1.5f && fmath::abs(dy) <= 1.5f)) return 0.0f;  // not a unit vector: refused
     const float f = heading_bins + 0.5f + 1048576.0f;
     std::uint32_t b = (f >= 0.0f && f < 2097152.0f) ? static_cast<std::uint32_t>(f) & mask_ : 0u;
     if (!(t_.cos_b[b] * dx + t_.sin_b[b] * dy >= t_.min_cos_gap))
       b = static_cast<std::uint32_t>(fmath::atan2(dy, dx) * bins_per_rad_ + 0.5f + 1048576.0f) & mask_;
     const std::uint8_t* q = t_.entry + b * cells_;
     const std::int32_t w = grid_.width(), h = grid_.height();
-    const float fw = static_cast<float>(w), fh = static_cast<float>(h);
     std::uint32_t e = q[r.iy * w + r.ix];
     float t = 0.0f;
     const std::int32_t bound = 3 * (w + h) + 8;
+    // A jump is taken in fixed point, an exact step in floats (GridRay::step(), from the cell's index). The ray's
+    // parameter t is kept in 2^-14 cell (tq), its start in 2^-12 cell and its direction in 2^-30: a jump adds
+    // e - 1 - 1/64 to tq exactly and lands by the high word of one 32 x 32-bit product per axis (SMMUL on the
+    // Cortex-M) and a shift, whose floor is the cell (-1 off the low edge); the landing is within 2^-10 cell of the
+    // float one, well inside the 1/64 cell of slack the entries keep for rounding. On the map t is under the diagonal (< 92 682 cells for the largest
+    // grid), so tq stays below 2^31. (>> of a negative value is the floor with GCC and Clang, the compilers built
+    // for; C++20 makes it the rule.)
+    const std::int32_t gxq = static_cast<std::int32_t>(r.gx * 4096.0f), gyq = static_cast<std::int32_t>(r.gy * 4096.0f);
+    const std::int64_t dxq = static_cast<std::int32_t>(r.dx * 1073741824.0f);
+    const std::int64_t dyq = static_cast<std::int32_t>(r.dy * 1073741824.0f);
+    const std::int32_t tmq = static_cast<std::int32_t>((r.t_max < 130000.0f ? r.t_max : 130000.0f) * kQ);
+    std::int32_t tq = 0;
+    const std::uint32_t uw = static_cast<std::uint32_t>(w), uh = static_cast<std::uint32_t>(h);
     for (std::int32_t n = 0; n < bound; ++n) {
       if (e >= 2u) {
-        t += static_cast<float>(e) - (1.0f + 1.0f / 64.0f);
-        if (!(t < r.t_max) || !r.land(t, w, h, fw, fh)) return max_range;
+        tq += static_cast<std::int32_t>(e << 14) - (16384 + 256);  // e - 1 - 1/64 cells
+        if (!(tq < tmq)) return max_range;
+        r.ix = (gxq + static_cast<std::int32_t>((tq * dxq) >> 32)) >> 12;
+        r.iy = (gyq + static_cast<std::int32_t>((tq * dyq) >> 32)) >> 12;
+        if (!(static_cast<std::uint32_t>(r.ix) < uw && static_cast<std::uint32_t>(r.iy) < uh)) return max_range;
+        t = static_cast<float>(tq) * (1.0f / kQ);
       } else {
         t = r.step();
         if (!(t < r.t_max) || !grid_.contains(r.ix, r.iy)) return max_range;
+        tq = static_cast<std::int32_t>(t * kQ);
       }
       e = q[r.iy * w + r.ix];
       if (e == 0u) return detail::cells_to_range(t, grid_.resolution(), max_range);
@@ -127,6 +148,8 @@ class ConeRayCaster {
   }
 
  private:
+  static constexpr float kQ = 16384.0f;  // fixed point of a jump: 2^-14 cell
+
   OccupancyGrid grid_{};
   Tables t_{};
   std::uint32_t mask_ = 0;
