@@ -103,6 +103,7 @@ TEST_CASE("cone caster keeps the exact caster's conventions", "[cone_ray_caster]
   CHECK(c.cast(-0.1f, 1.05f, 1.0f, 0.0f, 10.0f) == 0.0f);     // start off the map
   CHECK(c.cast(NAN, 1.05f, 1.0f, 0.0f, 10.0f) == 0.0f);       // non-finite start
   CHECK(c.cast(0.55f, 1.05f, NAN, 0.0f, 10.0f) == 0.0f);      // non-finite direction
+  CHECK(c.cast(0.55f, 1.05f, 2.0f, 0.0f, 10.0f) == 0.0f);     // not a unit vector
   CHECK(c.cast(0.55f, 1.05f, -1.0f, 0.0f, 10.0f) == 10.0f);   // leaves the map: no hit
   CHECK(c.cast(0.55f, 1.05f, 1.0f, 0.0f, 1.0f) == 1.0f);      // capped at max range
   CHECK(c.cast(0.55f, 1.05f, 1.0f, 0.0f, 0.0f) == 0.0f);      // max range <= 0
