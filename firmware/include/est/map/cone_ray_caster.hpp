@@ -31,9 +31,9 @@
 // line of floats.
 // Cost (bench_sensor_models, Intel map, T = 64): 2.3 jumps and 2.3 exact steps per cast in the beam model, 56-59 ns
 // per particle-beam on the host (86 ns with float jumps, side by side); 523 instructions per particle-beam on the M4F
-// at T = 16 (bench_mcl, README). Every loop
-// is bounded: a jump advances the ray by at least 63/64 cell and a step moves it one cell, so a cast ends within
-// 3 (W + H) + 8 iterations; the accuracy is tested against GridRayCaster (tests/test_cone_ray_caster.cpp).
+// at T = 16 (bench_mcl, README). Every loop is bounded: a jump advances the ray by at least 63/64 cell and a step
+// moves it one cell, so a cast ends within 3 (W + H) + 8 iterations; the accuracy is tested against GridRayCaster
+// (tests/test_cone_ray_caster.cpp).
 // Build: per heading, kDirect + 1 prefix-count reads and a window of bounds per cell, in loops over whole lines;
 // ~0.45 s for the Intel map at T = 64 on the host, meant for start-up or the host.
 #include <cstdint>
@@ -122,10 +122,12 @@ class ConeRayCaster {
     // parameter t is kept in 2^-14 cell (tq), its start in 2^-12 cell and its direction in 2^-30: a jump adds
     // e - 1 - 1/64 to tq exactly and lands by the high word of one 32 x 32-bit product per axis (SMMUL on the
     // Cortex-M) and a shift, whose floor is the cell (-1 off the low edge); the landing is within 2^-10 cell of the
-    // float one, well inside the 1/64 cell of slack the entries keep for rounding. On the map t is under the diagonal (< 92 682 cells for the largest
-    // grid), so tq stays below 2^31. (>> of a negative value is the floor with GCC and Clang, the compilers built
-    // for; C++20 makes it the rule.)
-    const std::int32_t gxq = static_cast<std::int32_t>(r.gx * 4096.0f), gyq = static_cast<std::int32_t>(r.gy * 4096.0f);
+    // float one, well inside the 1/64 cell of slack the entries keep for rounding. On the map t is under the
+    // diagonal (< 92 682 cells for the largest grid), so tq stays below 2^31, and |d| <= 1.5 keeps d's fixed point
+    // in 32 bits. (>> of a negative value is the floor with GCC and Clang, the compilers built for; C++20 makes it
+    // the rule.)
+    const std::int32_t gxq = static_cast<std::int32_t>(r.gx * 4096.0f);
+    const std::int32_t gyq = static_cast<std::int32_t>(r.gy * 4096.0f);
     const std::int64_t dxq = static_cast<std::int32_t>(r.dx * 1073741824.0f);
     const std::int64_t dyq = static_cast<std::int32_t>(r.dy * 1073741824.0f);
     const std::int32_t tmq = static_cast<std::int32_t>((r.t_max < 130000.0f ? r.t_max : 130000.0f) * kQ);
