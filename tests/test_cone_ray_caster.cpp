@@ -10,6 +10,8 @@
 
 #include "caster_agreement.hpp"
 #include "datasets.hpp"
+#include "est/filter/augmented_mcl.hpp"
+#include "est/loop/beam_scan.hpp"
 #include "est/map/cone_ray_caster.hpp"
 #include "est/map/ray_casting.hpp"
 #include "est/random/xoshiro128.hpp"
@@ -58,7 +60,8 @@ double build(int bins) {
 // The table's claim itself: from a random point of a free cell, at a random heading within 1.2 bins' halves of bin
 // b (what the query trusts), the exact traversal enters no occupied cell before bound_cells(b, cell). Returns the
 // rays that beat their bound (0 when the claim holds) and prints how tight the bounds are.
-int rays_beating_the_bound(const est::OccupancyGrid& g, const est::ConeRayCaster& cone, int rays, std::uint64_t seed) {
+template <class Cone>
+int rays_beating_the_bound(const est::OccupancyGrid& g, const Cone& cone, int rays, std::uint64_t seed) {
   const est::GridRayCaster exact(g);
   est::Rng rng(seed);
   const float half = est::kPi / static_cast<float>(cone.bins());
@@ -235,4 +238,82 @@ TEST_CASE("beam model on the cone caster gives the exact caster's densities, the
         360.0f * est::kBeamLogDensityFloor);
   CHECK(est::beam_range_finder_model(z, bearings.view(), readings.view(), truth, {}, est::ConeRayCaster{}, model) ==
         360.0f * est::kBeamLogDensityFloor);
+}
+
+// The packed table (4 bits per cell and heading, kConeLevels): half the memory, every bound the largest level not
+// above the byte table's, so the bounds still hold and the ranges stay the exact traversal's.
+TEST_CASE("cone caster packed in 4 bits: half the memory, bounds rounded down to a level, the same ranges",
+          "[cone_ray_caster]") {
+  static est::ConeRayCasterStorage<64, 400, 300, 4> packed;
+  est::sim::make_office_map(g_grid);
+  for (int bins : {16, 64}) {
+    build(bins);
+    REQUIRE(packed.build(g_grid.grid(), bins) == est::ConeRayCasterStatus::ok);
+    const est::ConeRayCaster bytes = g_cone.view();
+    const est::PackedConeRayCaster nibbles = packed.view();
+    CHECK_FALSE(g_cone.packed_view().valid());  // each table has the view of its own kind only
+    CHECK_FALSE(packed.ConeRayCasterBuffer::view().valid());
+    const std::uint32_t cells = 400u * 300u, ubins = static_cast<std::uint32_t>(bins);
+    CHECK(packed.bytes_used() == ubins / 2u * cells + 8u * ubins);
+    CHECK(g_cone.bytes_used() == ubins * cells + 8u * ubins);
+    // Every entry: the largest level not above the byte table's (the bound is e - 1 cells).
+    int wrong = 0;
+    for (std::int32_t b = 0; b < bins; ++b)
+      for (std::int32_t y = 0; y < 300; ++y)
+        for (std::int32_t x = 0; x < 400; ++x) {
+          const std::int32_t e = bytes.bound_cells(b, x, y) + 1, p = nibbles.bound_cells(b, x, y) + 1;
+          std::int32_t want = 0;
+          for (std::uint8_t level : est::kConeLevels)
+            if (level <= e) want = level;
+          wrong += p == want ? 0 : 1;
+        }
+    CHECK(wrong == 0);
+    CHECK(rays_beating_the_bound(g_grid.grid(), nibbles, 20000, 31u + ubins) == 0);
+    for (float range : {2.0f, 20.0f}) {
+      const Agreement s = test_support::random_rays(g_grid.grid(), nibbles, 20000, range, 37u + ubins);
+      std::printf("packed cone ray caster, %d headings, %.0f m: %.1f MiB; %d of %d rays identical to the exact "
+                  "traversal, worst |error| %.3f m\n", bins, static_cast<double>(range),
+                  packed.bytes_used() / 1048576.0, s.identical, s.rays, s.worst);
+      CHECK(s.identical >= s.rays * 999 / 1000);
+      CHECK(s.within_cell >= s.rays * 999 / 1000);
+    }
+  }
+  // The beam model over either table: the same log likelihood, bit for bit, particle after particle (64 headings).
+  const est::ConeRayCaster bytes = g_cone.view();
+  const est::PackedConeRayCaster nibbles = packed.view();
+  const est::BeamRangeFinderModel model = test_support::beam_model(20.0f);
+  const est::Pose2 truth{5.5f, 7.3f, 0.3f};
+  static est::PreparedScan<360> scan;
+  REQUIRE(test_support::prepare_exact_scan(g_grid.grid(), truth, 20.0f, scan));
+  const est::ScanBeams z = scan.beams();
+  static est::BeamBearingsStorage<360> bearings;
+  REQUIRE(bearings.prepare(z, bytes.bins()));
+  static est::BeamReadingsStorage<360> readings;
+  REQUIRE(readings.prepare(z, model));
+  est::Rng rng(41u);
+  int differ = 0;
+  for (int i = 0; i < 200; ++i) {
+    const est::Pose2 x{truth.x + rng.uniform(-0.5f, 0.5f), truth.y + rng.uniform(-0.5f, 0.5f),
+                       truth.theta + rng.uniform(-0.2f, 0.2f)};
+    const float a = est::beam_range_finder_model(z, bearings.view(), readings.view(), x, {}, bytes, model);
+    const float b = est::beam_range_finder_model(z, bearings.view(), readings.view(), x, {}, nibbles, model);
+    differ += std::memcmp(&a, &b, sizeof(float)) == 0 ? 0 : 1;
+  }
+  CHECK(differ == 0);
+  // And in MCL's correction (est/loop/beam_scan.hpp): the same weights from either table, and they moved.
+  est::MclConfig cfg;
+  cfg.recovery = false;
+  static est::AugmentedMcl<256> by_bytes(cfg, 9u), by_nibbles(cfg, 9u);
+  by_bytes.initialize_gaussian(truth, 0.3f, 0.1f, 256);
+  by_nibbles.initialize_gaussian(truth, 0.3f, 0.1f, 256);
+  est::loop::BeamConeScan<360> scan_bytes(bytes, model);
+  est::loop::BeamConeScan<360, est::PackedConeRayCaster> scan_nibbles(nibbles, model);
+  scan_bytes.correct(by_bytes, z, {});
+  scan_nibbles.correct(by_nibbles, z, {});
+  const est::ConstParticleSetView pa = by_bytes.particles(), pb = by_nibbles.particles();
+  REQUIRE(pa.count == pb.count);
+  CHECK(std::memcmp(pa.log_w, pb.log_w, sizeof(float) * pa.count) == 0);
+  float spread = 0.0f;
+  for (std::uint32_t i = 1; i < pa.count; ++i) spread = std::fmax(spread, std::fabs(pa.log_w[i] - pa.log_w[0]));
+  CHECK(spread > 1.0f);  // the scan told the particles apart
 }

@@ -44,6 +44,7 @@ std::string g_map_name;
 // The cone caster (exact, cone_ray_caster.hpp): one byte per cell and heading.
 constexpr std::int32_t kConeBins = 64;
 est::ConeRayCasterStorage<64, 888, 848> g_cone;
+est::ConeRayCasterStorage<64, 888, 848, 4> g_cone_packed;  // the same packed in 4 bits: half the memory
 double g_cone_build_ms = 0.0;
 est::BeamBearingsStorage<360> g_bearings;
 est::BeamReadingsStorage<360> g_readings;
@@ -87,6 +88,8 @@ void setup() {
   if (g_cone.build(g_grid.grid(), kConeBins) != est::ConeRayCasterStatus::ok)
     std::printf("cone caster build FAILED\n");
   g_cone_build_ms = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (g_cone_packed.build(g_grid.grid(), kConeBins) != est::ConeRayCasterStatus::ok)
+    std::printf("packed cone caster build FAILED\n");
   est::Rng rng(1u);
   while (g_rays.size() < 8192) {
     float x = 0.0f, y = 0.0f;
@@ -159,9 +162,9 @@ void BM_BeamModelDistanceTransformCaster(benchmark::State& state) {
 }
 // The cone caster through its beam-model overload: bearings and readings prepared once per scan, no atan2 per beam,
 // the densities multiplied (beam_range_finder_model_cone.hpp). Exact: the same z* as the exact caster.
-void BM_BeamModelCone(benchmark::State& state) {
+template <class Cone>
+void beam_model_cone(benchmark::State& state, const Cone& cone) {
   const est::ScanBeams b = g_scan.beams();
-  const est::ConeRayCaster cone = g_cone.view();
   std::size_t i = 0;
   for (auto _ : state) {
     benchmark::DoNotOptimize(est::beam_range_finder_model(b, g_bearings.view(), g_readings.view(),
@@ -171,7 +174,10 @@ void BM_BeamModelCone(benchmark::State& state) {
 }
 BENCHMARK(BM_BeamModelExactCaster);
 BENCHMARK(BM_BeamModelDistanceTransformCaster);
+void BM_BeamModelCone(benchmark::State& state) { beam_model_cone(state, g_cone.view()); }
+void BM_BeamModelConePacked(benchmark::State& state) { beam_model_cone(state, g_cone_packed.view()); }
 BENCHMARK(BM_BeamModelCone);
+BENCHMARK(BM_BeamModelConePacked);
 
 void BM_BeamModelDensityOnly(benchmark::State& state) {
   float z = 0.0f;
@@ -221,6 +227,8 @@ int main(int argc, char** argv) {
                 "as the exact caster, %d within a cell, worst %.3f m\n",
                 kConeBins, static_cast<double>(g_cone.bytes_used()) / 1048576.0, g_cone_build_ms, same, n, within,
                 static_cast<double>(worst));
+    std::printf("memory: packed cone caster (4 bits), %d headings: %.1f MiB\n", kConeBins,
+                static_cast<double>(g_cone_packed.bytes_used()) / 1048576.0);
   }
   std::printf("memory: prepared scan <360> %zu bytes, beam model %zu bytes\n", sizeof(est::PreparedScan<360>),
               sizeof(est::BeamRangeFinderModel));

@@ -37,7 +37,14 @@ est::PreparedScan<kK> g_scan;
 est::AugmentedMcl<kN> g_mcl(est::MclConfig{}, 0u);
 // The beam model's exact cone caster: 16 headings, one byte per cell and heading (307 KB here, 77 KB build scratch).
 constexpr std::int32_t kConeBins = 16;
+#if EST_BENCH_CONE_PACKED
+// bench-mcl-packed: the same table packed in 4 bits per cell and heading (154 KB here; kConeLevels), what fits
+// 512 KiB on a 200 x 200 map at 16 headings (312 KiB) where bytes would need 8 headings. An image of its own, as a
+// firmware would hold one kind: two kinds in one image change GCC's inlining of both (measured).
+est::ConeRayCasterStorage<kConeBins, 160, 120, 4> g_cone;
+#else
 est::ConeRayCasterStorage<kConeBins, 160, 120> g_cone;
+#endif
 est::BeamBearingsStorage<kK> g_bearings;
 est::BeamReadingsStorage<kK> g_readings;
 volatile float g_cone_sink = 0.0f;
@@ -86,7 +93,7 @@ int main() {
   beam.configure(bp);
   const est::DistanceTransformRayCaster caster(grid, g_edt.view());
   const bool cone_ok = g_cone.build(grid, kConeBins) == est::ConeRayCasterStatus::ok;
-  const est::ConeRayCaster cone = g_cone.view();
+  const auto cone = g_cone.view();
   const est::FreeSpaceSampler free_space(grid, g_edt.view(), 0.2f);
   const est::LikelihoodFieldGrid field = g_field_grid.view();
 
@@ -176,6 +183,9 @@ int main() {
   board::write_dec((predict.instructions + bm.instructions + resample.instructions) / kSteps);
   board::write("\n");
   // Per step of N = 512, K = 60 (the per-particle and per-beam figures round too coarsely to be budgets).
+#if EST_BENCH_CONE_PACKED
+  board::report_budget("bench.mcl_packed.beam_model_cone", bm_cone.instructions / kSteps, "instructions");
+#else
   board::report_budget("bench.mcl.predict_batch", predict_batch.instructions / kSteps, "instructions");
   board::report_budget("bench.mcl.likelihood_field", lf.instructions / kSteps, "instructions");
   board::report_budget("bench.mcl.beam_model", bm.instructions / kSteps, "instructions");
@@ -183,6 +193,7 @@ int main() {
   board::report_budget("bench.mcl.resample", resample.instructions / kSteps, "instructions");
   board::report_budget("bench.mcl.step",
                        (predict_batch.instructions + lf.instructions + resample.instructions) / kSteps, "instructions");
+#endif
   // Calibration of the counter: a loop of exactly 2 x 1000000 instructions (subs + bne), which spans three SysTick
   // wraps; the figure printed should be 2000000 plus the counter's own few instructions.
   board::instruction_counter_start();

@@ -7,9 +7,9 @@
 //  - BeamTableScan<KMax>: z* read from a HeadingRangeTable (est/map/heading_range_table.hpp: 2 T bytes per cell,
 //    the synthetic office at T = 64 is 14.6 MiB, the Intel map 92 MiB; its error against the exact cast is stated
 //    there), with the beams' bearings and the readings' per-scan terms prepared once per scan: the host's path.
-//  - BeamConeScan<KMax>: z* cast exactly by a ConeRayCaster (est/map/cone_ray_caster.hpp: the same floats as
-//    GridRayCaster; T bytes per cell, the Intel map at T = 64: 46 MiB), bearings and readings prepared once per
-//    scan as the table's.
+//  - BeamConeScan<KMax, Cone>: z* cast exactly by a ConeRayCaster (est/map/cone_ray_caster.hpp: the same floats as
+//    GridRayCaster; T bytes per cell, the Intel map at T = 64: 46 MiB) or a PackedConeRayCaster (the same floats,
+//    T / 2 bytes per cell), bearings and readings prepared once per scan as the table's.
 // Both weigh a particle by the book's product over the beams (in log space).
 #include <cstdint>
 
@@ -94,11 +94,11 @@ class BeamTableScan {
   BeamReadingsStorage<KMax> readings_;
 };
 
-template <std::int32_t KMax>
+template <std::int32_t KMax, class Cone = ConeRayCaster>
 class BeamConeScan {
  public:
   // The caster and the model outlive this.
-  BeamConeScan(const ConeRayCaster& cone, const BeamRangeFinderModel& model, const Pose2& mount = {})
+  BeamConeScan(const Cone& cone, const BeamRangeFinderModel& model, const Pose2& mount = {})
       : cone_(&cone), model_(&model), mount_(mount) {}
   BeamConeScan(const BeamConeScan& o) : cone_(o.cone_), model_(o.model_), mount_(o.mount_) {}
   BeamConeScan& operator=(const BeamConeScan&) = delete;
@@ -110,7 +110,7 @@ class BeamConeScan {
     const BeamBearings b = bearings_.view();
     const BeamReadings r = readings_.view();
     const Pose2 mount = mount_;
-    const ConeRayCaster& cone = *cone_;
+    const Cone& cone = *cone_;
     const BeamRangeFinderModel& model = *model_;
     return mcl.correct(
         [&](const Pose2& x) { return beam_range_finder_model(beams, b, r, x, mount, cone, model); },
@@ -120,7 +120,7 @@ class BeamConeScan {
   const Pose2& mount() const { return mount_; }
 
  private:
-  const ConeRayCaster* cone_;
+  const Cone* cone_;
   const BeamRangeFinderModel* model_;
   Pose2 mount_;
   BeamBearingsStorage<KMax> bearings_;

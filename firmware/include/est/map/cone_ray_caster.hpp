@@ -27,13 +27,15 @@
 // non-finite returns 0; no hit before max_range or the map's edge returns max_range. A direction must be a unit
 // vector: one with a component beyond 1.5 returns 0, like a non-finite one.
 // Memory: T bytes per cell (Intel map 888 x 848 at T = 64: 46 MiB; the board's room 160 x 120 at T = 16: 307 KB),
-// plus 8 bytes per heading; the build's scratch: two prefix counts (2 bytes per cell each), a byte per cell and a
-// line of floats.
+// or T / 2 packed (ConeRayCasterStorage<T, W, H, 4>, PackedConeRayCaster: a 4-bit code per entry, the largest of 16
+// levels not above it, kConeLevels; the same ranges, a few more jumps: 154 KB for the room, 312 KiB for a 200 x 200
+// map at T = 16), plus 8 bytes per heading; the build's scratch: two prefix counts (2 bytes per cell each), a byte
+// per cell and a line of floats.
 // Cost (bench_sensor_models, Intel map, T = 64): 2.3 jumps and 2.3 exact steps per cast in the beam model, 56-59 ns
 // per particle-beam on the host (86 ns with float jumps, side by side); 523 instructions per particle-beam on the M4F
-// at T = 16 (bench_mcl, README). Every loop is bounded: a jump advances the ray by at least 63/64 cell and a step
-// moves it one cell, so a cast ends within 3 (W + H) + 8 iterations; the accuracy is tested against GridRayCaster
-// (tests/test_cone_ray_caster.cpp).
+// at T = 16, 596 packed (bench_mcl, README; 664 for bytes at T = 8, the packed table's memory). Every loop is
+// bounded: a jump advances the ray by at least 63/64 cell and a step moves it one cell, so a cast ends within
+// 3 (W + H) + 8 iterations; the accuracy is tested against GridRayCaster (tests/test_cone_ray_caster.cpp).
 // Build: per heading, kDirect + 1 prefix-count reads and a window of bounds per cell, in loops over whole lines;
 // ~0.45 s for the Intel map at T = 64 on the host, meant for start-up or the host.
 #include <cstdint>
@@ -44,25 +46,35 @@
 
 namespace est {
 
+// The packed table's 16 codes (4 bits per cell and heading): code c stands for the entry kConeLevels[c], the largest
+// level not above the bound's entry, so a packed bound is never longer than the byte it replaces. 0 and 1 keep their
+// meaning (occupied, take a step); the jumps are 1-212 cells in steps of ~1.45.
+inline constexpr std::uint8_t kConeLevels[16] = {0, 1, 2, 3, 4, 6, 8, 11, 16, 23, 33, 48, 70, 101, 147, 213};
+
 enum class ConeRayCasterStatus : std::uint8_t {
   ok = 0,
   bad_grid,   // empty or invalid grid, or larger than the storage
   bad_bins,   // T is not a power of two in [8, the storage's T]
 };
 
-// Read-only view over a built table.
-class ConeRayCaster {
- public:
-  struct Tables {
-    const float* cos_b = nullptr;          // [T] cos of heading b
-    const float* sin_b = nullptr;          // [T]
-    const std::uint8_t* entry = nullptr;   // [T][H][W]
-    std::int32_t bins = 0;
-    float min_cos_gap = 1.0f;  // cos of 1.2 bins' halves: a heading further from the ray's is replaced by the ray's
-  };
+namespace detail {
+struct ConeTables {
+  const float* cos_b = nullptr;          // [T] cos of heading b
+  const float* sin_b = nullptr;          // [T]
+  const std::uint8_t* entry = nullptr;   // [T][H][W] bytes, or packed: [T / 2][H][W], bin 2p + 1 in the high half
+  std::int32_t bins = 0;
+  float min_cos_gap = 1.0f;  // cos of 1.2 bins' halves: a heading further from the ray's is replaced by the ray's
+};
+}  // namespace detail
 
-  ConeRayCaster() = default;
-  ConeRayCaster(const OccupancyGrid& grid, const Tables& t)
+// Read-only view over a built table: ConeRayCaster over bytes, PackedConeRayCaster over 4-bit codes (kConeLevels).
+template <bool Packed>
+class BasicConeRayCaster {
+ public:
+  using Tables = detail::ConeTables;
+
+  BasicConeRayCaster() = default;
+  BasicConeRayCaster(const OccupancyGrid& grid, const Tables& t)
       : grid_(grid), t_(t), mask_(static_cast<std::uint32_t>(t.bins - 1)),
         bins_per_rad_(static_cast<float>(t.bins) / kTwoPi),
         cells_(static_cast<std::uint32_t>(grid.width()) * static_cast<std::uint32_t>(grid.height())) {}
@@ -82,10 +94,10 @@ class ConeRayCaster {
   // 1.25 bins' halves of b enters an occupied cell before it. -1 for an occupied cell or arguments off the table.
   std::int32_t bound_cells(std::int32_t b, std::int32_t cx, std::int32_t cy) const {
     if (!valid() || b < 0 || b >= t_.bins || !grid_.contains(cx, cy)) return -1;
-    const std::uint32_t e = t_.entry[static_cast<std::uint32_t>(b) * cells_ +
-                                     static_cast<std::uint32_t>(cy * grid_.width() + cx)];
-    return static_cast<std::int32_t>(e) - 1;
+    const std::uint32_t i = static_cast<std::uint32_t>(cy * grid_.width() + cx), ub = static_cast<std::uint32_t>(b);
+    return static_cast<std::int32_t>(entry(plane(ub), shift(ub), i)) - 1;
   }
+  static constexpr bool packed() { return Packed; }
 
   // A start shared by many rays (the beam model's sensor position): its cell, found once, and whether rays from it
   // are walked at all (inside the map, not in an occupied cell: otherwise every cast from it returns 0).
@@ -113,9 +125,10 @@ class ConeRayCaster {
     std::uint32_t b = (f >= 0.0f && f < 2097152.0f) ? static_cast<std::uint32_t>(f) & mask_ : 0u;
     if (!(t_.cos_b[b] * dx + t_.sin_b[b] * dy >= t_.min_cos_gap))
       b = static_cast<std::uint32_t>(fmath::atan2(dy, dx) * bins_per_rad_ + 0.5f + 1048576.0f) & mask_;
-    const std::uint8_t* q = t_.entry + b * cells_;
+    const std::uint8_t* q = plane(b);
+    const std::uint32_t sh = shift(b);
     const std::int32_t w = grid_.width(), h = grid_.height();
-    std::uint32_t e = q[r.iy * w + r.ix];
+    std::uint32_t e = entry(q, sh, static_cast<std::uint32_t>(r.iy * w + r.ix));
     float t = 0.0f;
     const std::int32_t bound = 3 * (w + h) + 8;
     // A jump is taken in fixed point, an exact step in floats (GridRay::step(), from the cell's index). The ray's
@@ -146,7 +159,7 @@ class ConeRayCaster {
         if (!(t < r.t_max) || !grid_.contains(r.ix, r.iy)) return max_range;
         tq = static_cast<std::int32_t>(t * kQ);
       }
-      e = q[r.iy * w + r.ix];
+      e = entry(q, sh, static_cast<std::uint32_t>(r.iy * w + r.ix));
       if (e == 0u) return detail::cells_to_range(t, grid_.resolution(), max_range);
     }
     return max_range;
@@ -155,12 +168,23 @@ class ConeRayCaster {
  private:
   static constexpr float kQ = 16384.0f;  // fixed point of a jump: 2^-14 cell
 
+  // Heading b's plane of the table, and the place of its half in a packed byte.
+  const std::uint8_t* plane(std::uint32_t b) const { return t_.entry + (Packed ? b >> 1 : b) * cells_; }
+  static std::uint32_t shift(std::uint32_t b) { return Packed ? (b & 1u) * 4u : 0u; }
+  // The entry of cell i in a plane q.
+  static std::uint32_t entry(const std::uint8_t* q, std::uint32_t sh, std::uint32_t i) {
+    if (Packed) return kConeLevels[(static_cast<std::uint32_t>(q[i]) >> sh) & 15u];
+    return q[i];
+  }
+
   OccupancyGrid grid_{};
   Tables t_{};
   std::uint32_t mask_ = 0;
   float bins_per_rad_ = 0.0f;
   std::uint32_t cells_ = 0;
 };
+using ConeRayCaster = BasicConeRayCaster<false>;
+using PackedConeRayCaster = BasicConeRayCaster<true>;
 
 // Runtime-capacity interface over caller-owned arrays.
 class ConeRayCasterBuffer {
@@ -171,15 +195,17 @@ class ConeRayCasterBuffer {
   // Columns (and rows) scanned directly before the bound continues from the cells beyond them.
   static constexpr std::int32_t kDirect = 16;
 
-  // Bytes the query reads: one per cell and heading, 8 per heading.
+  // Bytes the query reads: one per cell and heading (half of one packed), 8 per heading.
   std::uint32_t bytes_used() const {
-    return static_cast<std::uint32_t>(bins_) * (cells_ + 8u);
+    const std::uint32_t bins = static_cast<std::uint32_t>(bins_);
+    return (packed_ ? bins / 2u : bins) * cells_ + 8u * bins;
   }
 
   // Builds the table of T headings 2 pi b / T for `grid`. Nothing usable is left unless the result is ok (view()
   // is invalid then). Bounded: per heading, (kDirect + 1) prefix-count reads and a window of entries per cell.
   ConeRayCasterStatus build(const OccupancyGrid& grid, std::int32_t bins) {
-    view_ = ConeRayCaster{};
+    grid_ = OccupancyGrid{};
+    tables_ = detail::ConeTables{};
     bins_ = 0;
     cells_ = 0;
     if (!grid.valid() || grid.width() > cap_w_ || grid.height() > cap_h_) return ConeRayCasterStatus::bad_grid;
@@ -222,11 +248,15 @@ class ConeRayCasterBuffer {
         ax = Axis{s > 0.0f ? 1 : -1, hgt, w, row_, smaller(m0, m1), larger(m0, m1), largest_abs(s_lo, s_hi, s),
                   false};
       }
-      build_bin(ax, entry_ + static_cast<std::uint32_t>(b) * cells);
+      const std::uint32_t ub = static_cast<std::uint32_t>(b);
+      if (packed_)
+        build_bin<true>(ax, entry_ + (ub >> 1) * cells, (ub & 1u) * 4u);
+      else
+        build_bin<false>(ax, entry_ + ub * cells, 0u);
     }
     bins_ = bins;
     cells_ = cells;
-    ConeRayCaster::Tables t;
+    detail::ConeTables t;
     t.cos_b = cos_;
     t.sin_b = sin_;
     t.entry = entry_;
@@ -234,16 +264,23 @@ class ConeRayCasterBuffer {
     float sg = 0.0f, cg = 1.0f;
     fmath::sincos(1.2f * half, sg, cg);
     t.min_cos_gap = cg;
-    view_ = ConeRayCaster(grid, t);
+    grid_ = grid;
+    tables_ = t;
     return ConeRayCasterStatus::ok;
   }
-  ConeRayCaster view() const { return view_; }
+  // The view of a byte table (invalid over a packed one, or before a build), and of a packed one (the reverse).
+  ConeRayCaster view() const { return packed_ ? ConeRayCaster{} : ConeRayCaster(grid_, tables_); }
+  PackedConeRayCaster packed_view() const {
+    return packed_ ? PackedConeRayCaster(grid_, tables_) : PackedConeRayCaster{};
+  }
 
  protected:
+  // entries: cap_bins x cap_w x cap_h bytes, or half that when packed.
   ConeRayCasterBuffer(float* cos_b, float* sin_b, std::int32_t cap_bins, std::uint8_t* entries, std::int32_t cap_w,
-                      std::int32_t cap_h, std::uint16_t* col, std::uint16_t* row, float* line, std::uint8_t* bound)
-      : cos_(cos_b), sin_(sin_b), cap_bins_(cap_bins), entry_(entries), cap_w_(cap_w), cap_h_(cap_h), col_(col),
-        row_(row), line_(line), bound_(bound) {}
+                      std::int32_t cap_h, std::uint16_t* col, std::uint16_t* row, float* line, std::uint8_t* bound,
+                      bool packed = false)
+      : cos_(cos_b), sin_(sin_b), cap_bins_(cap_bins), entry_(entries), packed_(packed), cap_w_(cap_w), cap_h_(cap_h),
+        col_(col), row_(row), line_(line), bound_(bound) {}
   ~ConeRayCasterBuffer() = default;
 
  private:
@@ -318,7 +355,16 @@ class ConeRayCasterBuffer {
     }
   }
 
-  void build_bin(const Axis& a, std::uint8_t* e) const {
+  // The code of entry e: the largest level not above it.
+  static std::uint8_t code_of(std::uint32_t e) {
+    std::uint8_t c = 0;
+    for (std::uint8_t k = 1; k < 16; ++k)
+      if (kConeLevels[k] <= e) c = k;
+    return c;
+  }
+
+  template <bool Packed>
+  void build_bin(const Axis& a, std::uint8_t* e, std::uint32_t shift) const {
     const float path_per_run = 1.0f / a.max_cos;  // path >= run / max|cos|
     std::int32_t r0[kDirect + 1], r1[kDirect + 1];
     for (std::int32_t i = 0; i <= kDirect; ++i) {
@@ -349,8 +395,13 @@ class ConeRayCasterBuffer {
         const bool occupied = own[v + 1] != own[v];
         const std::int32_t di = d[v] >= 254.0f ? 254 : static_cast<std::int32_t>(d[v]);  // floor
         out_line[v] = occupied ? std::uint8_t{0} : static_cast<std::uint8_t>(di);
-        e[static_cast<std::uint32_t>(y) * w + static_cast<std::uint32_t>(x)] =
-            occupied ? std::uint8_t{0} : static_cast<std::uint8_t>(di + 1);
+        const std::uint8_t byte = occupied ? std::uint8_t{0} : static_cast<std::uint8_t>(di + 1);
+        std::uint8_t& out = e[static_cast<std::uint32_t>(y) * w + static_cast<std::uint32_t>(x)];
+        if (Packed)
+          out = static_cast<std::uint8_t>((static_cast<std::uint32_t>(out) & ~(15u << shift)) |
+                                          (static_cast<std::uint32_t>(code_of(byte)) << shift));
+        else
+          out = byte;
       }
     }
   }
@@ -359,6 +410,7 @@ class ConeRayCasterBuffer {
   float* sin_;
   std::int32_t cap_bins_;
   std::uint8_t* entry_;
+  bool packed_;
   std::int32_t cap_w_, cap_h_;
   std::uint16_t* col_;
   std::uint16_t* row_;
@@ -366,13 +418,16 @@ class ConeRayCasterBuffer {
   std::uint8_t* bound_;
   std::uint32_t cells_ = 0;
   std::int32_t bins_ = 0;
-  ConeRayCaster view_{};
+  OccupancyGrid grid_{};
+  detail::ConeTables tables_{};
 };
 
-// The owner: up to TMax headings over a map of up to MaxW x MaxH cells; a static object.
-template <std::int32_t TMax, std::int32_t MaxW, std::int32_t MaxH>
+// The owner: up to TMax headings over a map of up to MaxW x MaxH cells, Bits (8, or 4 packed) per cell and heading;
+// a static object.
+template <std::int32_t TMax, std::int32_t MaxW, std::int32_t MaxH, std::int32_t Bits = 8>
 class ConeRayCasterStorage final : public ConeRayCasterBuffer {
   static_assert(TMax >= 8 && TMax <= 1024 && (TMax & (TMax - 1)) == 0, "T must be a power of two >= 8");
+  static_assert(Bits == 8 || Bits == 4, "8 bits per cell and heading, or 4 packed");
   static_assert(MaxW > 0 && MaxH > 0 && MaxW < 65535 && MaxH < 65535, "map size");
   static constexpr std::uint64_t kT = static_cast<std::uint64_t>(TMax);
   static constexpr std::uint64_t kW = static_cast<std::uint64_t>(MaxW);
@@ -382,15 +437,23 @@ class ConeRayCasterStorage final : public ConeRayCasterBuffer {
   static constexpr std::uint64_t kCells = kW * kH;
   // The query's table and headings, then the build's scratch.
   static constexpr std::uint64_t kBytes =
-      kCells * kT + 8ull * kT + 2ull * (kW * (kH + 1u) + kH * (kW + 1u)) + 4ull * (kW > kH ? kW : kH) + kCells;
+      kCells * kT * Bits / 8u + 8ull * kT + 2ull * (kW * (kH + 1u) + kH * (kW + 1u)) + 4ull * (kW > kH ? kW : kH) +
+      kCells;
   ConeRayCasterStorage()
       : ConeRayCasterBuffer(cos_, sin_, TMax, entry_storage_, MaxW, MaxH, col_storage_, row_storage_,
-                            line_storage_, bound_storage_) {}
+                            line_storage_, bound_storage_, Bits == 4) {}
+  // ConeRayCaster, or PackedConeRayCaster for Bits = 4.
+  auto view() const {
+    if constexpr (Bits == 4)
+      return packed_view();
+    else
+      return ConeRayCasterBuffer::view();
+  }
 
  private:
   float cos_[kT];
   float sin_[kT];
-  std::uint8_t entry_storage_[kCells * kT];
+  std::uint8_t entry_storage_[kCells * kT * Bits / 8u];
   std::uint16_t col_storage_[kW * (kH + 1u)];
   std::uint16_t row_storage_[kH * (kW + 1u)];
   float line_storage_[kW > kH ? kW : kH];

@@ -25,5 +25,11 @@ inline float beam_range_finder_model(const ScanBeams& z, const BeamBearings& bea
                                      const BeamRangeFinderModel& model) {
   return beam_range_finder_model_over_bins(z, bearings, readings, x, mount, cone, model);
 }
+// The same over the packed table (4 bits per cell and heading): the same z*, half the memory.
+inline float beam_range_finder_model(const ScanBeams& z, const BeamBearings& bearings, const BeamReadings& readings,
+                                     const Pose2& x, const Pose2& mount, const PackedConeRayCaster& cone,
+                                     const BeamRangeFinderModel& model) {
+  return beam_range_finder_model_over_bins(z, bearings, readings, x, mount, cone, model);
+}
 
 }  // namespace est
