@@ -91,6 +91,35 @@ int rays_beating_the_bound(const est::OccupancyGrid& g, const Cone& cone, int ra
   return beaten;
 }
 
+// The beam model's set-up of the tests below: the model, a 360-beam scan cast exactly from `truth` on g_grid, its
+// bearings in `bins` headings and its readings, prepared (the views point into static storage).
+struct BeamSetup {
+  est::BeamRangeFinderModel model = test_support::beam_model(20.0f);
+  est::Pose2 truth{5.5f, 7.3f, 0.3f};
+  est::ScanBeams z{};
+  est::BeamBearings bearings{};
+  est::BeamReadings readings{};
+};
+BeamSetup prepare_beams(std::int32_t bins) {
+  static est::PreparedScan<360> scan;
+  static est::BeamBearingsStorage<360> bearings;
+  static est::BeamReadingsStorage<360> readings;
+  BeamSetup s;
+  REQUIRE(s.model.ready());
+  REQUIRE(test_support::prepare_exact_scan(g_grid.grid(), s.truth, 20.0f, scan));
+  s.z = scan.beams();
+  REQUIRE(bearings.prepare(s.z, bins));
+  REQUIRE(readings.prepare(s.z, s.model));
+  s.bearings = bearings.view();
+  s.readings = readings.view();
+  return s;
+}
+
+// A pose drawn uniformly within +-xy and +-th of p.
+est::Pose2 around(const est::Pose2& p, est::Rng& rng, float xy, float th) {
+  return {p.x + rng.uniform(-xy, xy), p.y + rng.uniform(-xy, xy), p.theta + rng.uniform(-th, th)};
+}
+
 }  // namespace
 
 TEST_CASE("cone caster keeps the exact caster's conventions", "[cone_ray_caster]") {
@@ -197,21 +226,14 @@ TEST_CASE("beam model on the cone caster gives the exact caster's densities, the
   build(64);
   const est::ConeRayCaster cone = g_cone.view();
   const est::GridRayCaster exact(g_grid.grid());
-  const est::BeamRangeFinderModel model = test_support::beam_model(20.0f);
-  REQUIRE(model.ready());
-  const est::Pose2 truth{5.5f, 7.3f, 0.3f};
-  static est::PreparedScan<360> scan;
-  REQUIRE(test_support::prepare_exact_scan(g_grid.grid(), truth, 20.0f, scan));
-  const est::ScanBeams z = scan.beams();
-  static est::BeamBearingsStorage<360> bearings;
-  REQUIRE(bearings.prepare(z, cone.bins()));
-  static est::BeamReadingsStorage<360> readings;
-  REQUIRE(readings.prepare(z, model));
+  const BeamSetup beams = prepare_beams(cone.bins());
+  const est::BeamRangeFinderModel& model = beams.model;
+  const est::Pose2 truth = beams.truth;
+  const est::ScanBeams z = beams.z;
   est::Rng rng(21u);
   double worst = 0.0;
   for (int i = 0; i < 200; ++i) {
-    const est::Pose2 x{truth.x + rng.uniform(-0.3f, 0.3f), truth.y + rng.uniform(-0.3f, 0.3f),
-                       truth.theta + rng.uniform(-0.1f, 0.1f)};
+    const est::Pose2 x = around(truth, rng, 0.3f, 0.1f);
     // The exact caster's per-beam log densities, summed in double: the reference of LogProduct's bound.
     const est::SensorFrame f = est::sensor_frame(x, {});
     double ref = 0.0;
@@ -222,8 +244,8 @@ TEST_CASE("beam model on the cone caster gives the exact caster's densities, the
       REQUIRE(std::memcmp(&e, &c, sizeof(float)) == 0);  // the same z* on every beam
       ref += static_cast<double>(model.log_density(z.is_max[k] ? 20.0f : z.range[k], e));
     }
-    const float fast = est::beam_range_finder_model(z, bearings.view(), readings.view(), x, {}, cone, model);
-    const float again = est::beam_range_finder_model(z, bearings.view(), readings.view(), x, {}, cone, model);
+    const float fast = est::beam_range_finder_model(z, beams.bearings, beams.readings, x, {}, cone, model);
+    const float again = est::beam_range_finder_model(z, beams.bearings, beams.readings, x, {}, cone, model);
     REQUIRE(std::memcmp(&fast, &again, sizeof(float)) == 0);
     const double bound = z.count * std::ldexp(1.0, -24) + 4.0 * std::fabs(ref) * std::ldexp(1.0, -23);
     CHECK(std::fabs(double(fast) - ref) <= bound);
@@ -234,9 +256,9 @@ TEST_CASE("beam model on the cone caster gives the exact caster's densities, the
   // Bearings prepared for another heading count, or a caster not built, are refused.
   static est::BeamBearingsStorage<360> wrong;
   REQUIRE(wrong.prepare(z, 32));
-  CHECK(est::beam_range_finder_model(z, wrong.view(), readings.view(), truth, {}, cone, model) ==
+  CHECK(est::beam_range_finder_model(z, wrong.view(), beams.readings, truth, {}, cone, model) ==
         360.0f * est::kBeamLogDensityFloor);
-  CHECK(est::beam_range_finder_model(z, bearings.view(), readings.view(), truth, {}, est::ConeRayCaster{}, model) ==
+  CHECK(est::beam_range_finder_model(z, beams.bearings, beams.readings, truth, {}, est::ConeRayCaster{}, model) ==
         360.0f * est::kBeamLogDensityFloor);
 }
 
@@ -281,22 +303,14 @@ TEST_CASE("cone caster packed in 4 bits: half the memory, bounds rounded down to
   // The beam model over either table: the same log likelihood, bit for bit, particle after particle (64 headings).
   const est::ConeRayCaster bytes = g_cone.view();
   const est::PackedConeRayCaster nibbles = packed.view();
-  const est::BeamRangeFinderModel model = test_support::beam_model(20.0f);
-  const est::Pose2 truth{5.5f, 7.3f, 0.3f};
-  static est::PreparedScan<360> scan;
-  REQUIRE(test_support::prepare_exact_scan(g_grid.grid(), truth, 20.0f, scan));
-  const est::ScanBeams z = scan.beams();
-  static est::BeamBearingsStorage<360> bearings;
-  REQUIRE(bearings.prepare(z, bytes.bins()));
-  static est::BeamReadingsStorage<360> readings;
-  REQUIRE(readings.prepare(z, model));
+  const BeamSetup beams = prepare_beams(bytes.bins());
   est::Rng rng(41u);
   int differ = 0;
   for (int i = 0; i < 200; ++i) {
-    const est::Pose2 x{truth.x + rng.uniform(-0.5f, 0.5f), truth.y + rng.uniform(-0.5f, 0.5f),
-                       truth.theta + rng.uniform(-0.2f, 0.2f)};
-    const float a = est::beam_range_finder_model(z, bearings.view(), readings.view(), x, {}, bytes, model);
-    const float b = est::beam_range_finder_model(z, bearings.view(), readings.view(), x, {}, nibbles, model);
+    const est::Pose2 x = around(beams.truth, rng, 0.5f, 0.2f);
+    const float a = est::beam_range_finder_model(beams.z, beams.bearings, beams.readings, x, {}, bytes, beams.model);
+    const float b =
+        est::beam_range_finder_model(beams.z, beams.bearings, beams.readings, x, {}, nibbles, beams.model);
     differ += std::memcmp(&a, &b, sizeof(float)) == 0 ? 0 : 1;
   }
   CHECK(differ == 0);
@@ -304,12 +318,12 @@ TEST_CASE("cone caster packed in 4 bits: half the memory, bounds rounded down to
   est::MclConfig cfg;
   cfg.recovery = false;
   static est::AugmentedMcl<256> by_bytes(cfg, 9u), by_nibbles(cfg, 9u);
-  by_bytes.initialize_gaussian(truth, 0.3f, 0.1f, 256);
-  by_nibbles.initialize_gaussian(truth, 0.3f, 0.1f, 256);
-  est::loop::BeamConeScan<360> scan_bytes(bytes, model);
-  est::loop::BeamConeScan<360, est::PackedConeRayCaster> scan_nibbles(nibbles, model);
-  scan_bytes.correct(by_bytes, z, {});
-  scan_nibbles.correct(by_nibbles, z, {});
+  by_bytes.initialize_gaussian(beams.truth, 0.3f, 0.1f, 256);
+  by_nibbles.initialize_gaussian(beams.truth, 0.3f, 0.1f, 256);
+  est::loop::BeamConeScan<360> scan_bytes(bytes, beams.model);
+  est::loop::BeamConeScan<360, est::PackedConeRayCaster> scan_nibbles(nibbles, beams.model);
+  scan_bytes.correct(by_bytes, beams.z, {});
+  scan_nibbles.correct(by_nibbles, beams.z, {});
   const est::ConstParticleSetView pa = by_bytes.particles(), pb = by_nibbles.particles();
   REQUIRE(pa.count == pb.count);
   CHECK(std::memcmp(pa.log_w, pb.log_w, sizeof(float) * pa.count) == 0);
