@@ -42,8 +42,10 @@ constexpr std::int32_t kConeBins = 16;
 // 512 KiB on a 200 x 200 map at 16 headings (312 KiB) where bytes would need 8 headings. An image of its own, as a
 // firmware would hold one kind: two kinds in one image change GCC's inlining of both (measured).
 est::ConeRayCasterStorage<kConeBins, 160, 120, 4> g_cone;
+constexpr const char* kConePhase = "correct_beam_cone_packed";
 #else
 est::ConeRayCasterStorage<kConeBins, 160, 120> g_cone;
+constexpr const char* kConePhase = "correct_beam_cone";
 #endif
 est::BeamBearingsStorage<kK> g_bearings;
 est::BeamReadingsStorage<kK> g_readings;
@@ -114,7 +116,7 @@ int main() {
   g_mcl.initialize_gaussian(truth, 0.3f, 0.1f, kN);
 
   Phase predict{"predict"}, predict_batch{"predict_batch"}, lf{"correct_lf"}, lf_scalar{"correct_lf_scalar"},
-      bm{"correct_beam"}, bm_cone{"correct_beam_cone"}, resample{"resample"};
+      bm{"correct_beam"}, bm_cone{kConePhase}, resample{"resample"};
   for (int t = 0; t < kSteps; ++t) {
     truth = est::BicycleMotionModel::sample(truth, u, noise, world);
     float ranges[kK];
