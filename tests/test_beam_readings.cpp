@@ -38,6 +38,34 @@ std::uint32_t count_mismatches(const est::BeamRangeFinderModel& m, std::uint32_t
   return bad;
 }
 
+// densities() (kLanes beams at a time on the host) against density() one beam at a time, over the same grid: every
+// reading against a run of expected ranges, so each group of lanes mixes z* near and far from the ends.
+std::uint32_t count_batch_mismatches(const est::BeamRangeFinderModel& m, std::uint32_t& tried) {
+  const float zm = m.params().range_max, s = m.params().sigma_hit;
+  std::vector<float> zs;
+  for (int i = -3; i <= static_cast<int>(zm * 50.0f) + 25; ++i) zs.push_back(0.02f * static_cast<float>(i));
+  for (float v : {0.0f, 1e-7f, 1e-4f, 5.5f * s, 12.0f * s, zm - 5.5f * s, zm - 12.0f * s, zm - 1e-4f, zm, zm + 1e-4f,
+                  2.0f * zm, 1e30f, __builtin_nanf("")})
+    zs.push_back(v);
+  std::vector<est::BeamRangeFinderModel::Reading> r(zs.size());
+  std::vector<float> z_exp(zs.size()), out(zs.size());
+  std::uint32_t bad = 0;
+  tried = 0;
+  for (std::size_t shift = 0; shift < zs.size(); shift += 7) {
+    for (std::size_t i = 0; i < zs.size(); ++i) {
+      r[i] = m.reading(zs[i]);
+      const float e = zs[(i + shift) % zs.size()];
+      z_exp[i] = e == e ? e : 0.0f;  // z* is a caster's range: finite
+    }
+    m.densities(r.data(), z_exp.data(), out.data(), static_cast<std::int32_t>(zs.size()));
+    for (std::size_t i = 0; i < zs.size(); ++i) {
+      ++tried;
+      if (bits(out[i]) != bits(m.density(r[i], z_exp[i]))) ++bad;
+    }
+  }
+  return bad;
+}
+
 }  // namespace
 
 TEST_CASE("beam density from a prepared reading is bit-identical to the model's density", "[beam_readings]") {
@@ -62,6 +90,31 @@ TEST_CASE("beam density from a prepared reading is bit-identical to the model's 
   p.lambda_short = 40.0f;
   REQUIRE(m.configure(p) == est::SensorModelStatus::ok);
   CHECK(count_mismatches(m, tried) == 0u);
+}
+
+TEST_CASE("beam densities of many beams at once are bit-identical to the density of each", "[beam_readings]") {
+  est::BeamRangeFinderModel m;
+  est::BeamModelParams p;
+  p.range_max = 20.0f;
+  REQUIRE(m.configure(p) == est::SensorModelStatus::ok);
+  std::uint32_t tried = 0;
+  CHECK(count_batch_mismatches(m, tried) == 0u);
+  CHECK(tried > 100000u);
+  // A wide Gaussian (the truncation mass away from 1 everywhere), no short part, a short part whose normalizer's exp
+  // leaves the lanes' range (lambda z* >= 85: that group one beam at a time).
+  p.range_max = 8.0f;
+  p.sigma_hit = 2.0f;
+  REQUIRE(m.configure(p) == est::SensorModelStatus::ok);
+  CHECK(count_batch_mismatches(m, tried) == 0u);
+  p.sigma_hit = 0.05f;
+  p.z_short = 0.0f;
+  p.z_hit = 0.9f;
+  REQUIRE(m.configure(p) == est::SensorModelStatus::ok);
+  CHECK(count_batch_mismatches(m, tried) == 0u);
+  p = {};
+  p.lambda_short = 40.0f;
+  REQUIRE(m.configure(p) == est::SensorModelStatus::ok);
+  CHECK(count_batch_mismatches(m, tried) == 0u);
 }
 
 TEST_CASE("a non-finite reading has density 0, as the model gives", "[beam_readings]") {

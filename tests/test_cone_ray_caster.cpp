@@ -331,3 +331,60 @@ TEST_CASE("cone caster packed in 4 bits: half the memory, bounds rounded down to
   for (std::uint32_t i = 1; i < pa.count; ++i) spread = std::fmax(spread, std::fabs(pa.log_w[i] - pa.log_w[0]));
   CHECK(spread > 1.0f);  // the scan told the particles apart
 }
+
+#if defined(__SSE2__)
+namespace {
+// cast_lanes_from<G>() against cast_from() ray by ray, 4 G rays from each of `origins` random starts (some off the
+// map or in walls), at random headings, with some headings given wrong, some directions not unit or not finite, and
+// max ranges from none to beyond the map. Returns the rays whose floats differ; counts hits and rays cast.
+template <std::uint32_t G, class Cone>
+int lanes_mismatches(const Cone& cone, int origins, std::uint64_t seed, int& rays, int& hits) {
+  const est::OccupancyGrid g = cone.grid();
+  constexpr std::uint32_t n = 4 * G;
+  est::Rng rng(seed);
+  int bad = 0;
+  for (int i = 0; i < origins; ++i) {
+    const float x = rng.uniform(-0.5f, static_cast<float>(g.width()) * g.resolution() + 0.5f);
+    const float y = rng.uniform(-0.5f, static_cast<float>(g.height()) * g.resolution() + 0.5f);
+    const typename Cone::Origin o = cone.origin(x, y);
+    const float ranges[] = {0.0f, 0.3f, 2.0f, 20.0f, 1e6f};
+    const float max_range = ranges[i % 5];
+    float dx[n], dy[n], hb[n], out[n];
+    const float th0 = rng.uniform(-est::kPi, est::kPi);
+    for (std::uint32_t j = 0; j < n; ++j) {
+      const float th = (i % 3 == 0) ? rng.uniform(-est::kPi, est::kPi) : th0 + 0.02f * static_cast<float>(j);
+      dx[j] = std::cos(th);
+      dy[j] = std::sin(th);
+      hb[j] = th * cone.bins_per_rad() + (j % 7 == 3 ? 2.0f : 0.0f);  // a heading 2 bins off: the ray's is taken
+      if (i % 11 == 5 && j == 1) dx[j] = 2.0f;                       // not a unit vector
+      if (i % 13 == 6 && j == 2) dy[j] = NAN;
+      if (i % 17 == 7 && j == 0) dx[j] = 0.0f, dy[j] = 1.0f;  // along a grid line
+    }
+    cone.template cast_lanes_from<G>(o, dx, dy, hb, max_range, out);
+    for (std::uint32_t j = 0; j < n; ++j) {
+      const float want = cone.cast_from(o, dx[j], dy[j], hb[j], max_range);
+      bad += std::memcmp(&want, &out[j], sizeof(float)) == 0 ? 0 : 1;
+      hits += want > 0.0f && want < max_range ? 1 : 0;
+      ++rays;
+    }
+  }
+  return bad;
+}
+}  // namespace
+
+TEST_CASE("cone caster walks 4 or 16 rays in lockstep lanes with each ray's own float", "[cone_ray_caster]") {
+  static est::ConeRayCasterStorage<64, 400, 300, 4> packed;
+  est::sim::make_office_map(g_grid);
+  for (int bins : {16, 64}) {
+    build(bins);
+    REQUIRE(packed.build(g_grid.grid(), bins) == est::ConeRayCasterStatus::ok);
+    int rays = 0, hits = 0;
+    CHECK(lanes_mismatches<1>(g_cone.view(), 3000, 41u, rays, hits) == 0);
+    CHECK(lanes_mismatches<4>(g_cone.view(), 3000, 43u, rays, hits) == 0);
+    CHECK(lanes_mismatches<4>(packed.view(), 3000, 47u, rays, hits) == 0);
+    std::printf("cone caster lanes, %d headings: %d rays, %d hits, each the float of cast_from()\n", bins, rays,
+                hits);
+    CHECK(hits > rays / 4);
+  }
+}
+#endif

@@ -7,6 +7,7 @@
 #include "est/math/inline_exp.hpp"
 #include "est/math/inline_math.hpp"
 #include "est/math/lanes.hpp"
+#include "est/math/normal.hpp"
 
 namespace {
 
@@ -145,4 +146,23 @@ TEST_CASE("lanes::exp gives imath::exp's bits on (-85, 0] and flags every other 
   INFO(xs.size() << " inputs");
   CHECK(bad == 0u);
   CHECK(flagged == 8u);  // 1e-30, 0.5, -85 (outside: the range is open there), -85.00001, -100, +-inf, NaN
+}
+
+TEST_CASE("lanes::normal_cdf gives est::normal_cdf's bits on every float", "[lanes]") {
+  // Every 97th float of both signs up to 20 (beyond the tails' cut at 9 sqrt 2), the floats around the cut, and the
+  // special values.
+  std::vector<float> xs = inputs(0x41a00000u, 97u);
+  const float cut = 9.0f * 1.41421356f;
+  for (std::uint32_t d = 0; d < 64; ++d)
+    for (const float v : {from_bits(bits(cut) + d), from_bits(bits(cut) - d)}) xs.push_back(v), xs.push_back(-v);
+  for (const float v : {__builtin_inff(), -__builtin_inff(), __builtin_nanf(""), 1e30f, -1e30f}) xs.push_back(v);
+  while (xs.size() % kLanes != 0u) xs.push_back(0.5f);
+  std::uint64_t bad = 0;
+  for (std::size_t i = 0; i < xs.size(); i += kLanes) {
+    const F c = est::lanes::normal_cdf(est::lanes::load(&xs[i]));
+    for (std::uint32_t j = 0; j < kLanes; ++j) bad += bits(c[j]) != bits(est::normal_cdf(xs[i + j])) ? 1u : 0u;
+  }
+  INFO(xs.size() << " inputs");
+  CHECK(bad == 0u);
+  CHECK(xs.size() > 1000000u);
 }

@@ -14,6 +14,7 @@ constexpr Section kSections[] = {
     {"motion_b", digest_of<section_motion_b>, 0x36f36c772b29fce4ull, section_motion_b},
     {"sensors", section_sensors, 0x473631f183c83d2eull},
     {"beam_table", section_beam_table, 0xcb7de31e0c02c7a1ull},
+    {"beam_cone", section_beam_cone, 0x782f25021ccbeb05ull},
     {"motion_a", digest_of<section_motion_a>, 0x651a71140c8e686eull, section_motion_a},
     {"ekf", digest_of<section_ekf>, 0x2dd3334a6b0cb290ull, section_ekf},
     {"mcl", digest_of<section_mcl>, 0xabc6252fa09c079dull, section_mcl},

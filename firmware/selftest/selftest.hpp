@@ -46,6 +46,7 @@ std::uint64_t section_samplers();
 void section_motion_b(Trace& d);
 std::uint64_t section_sensors();
 std::uint64_t section_beam_table();
+std::uint64_t section_beam_cone();
 void section_motion_a(Trace& d);
 void section_ekf(Trace& d);
 void section_mcl(Trace& d);

@@ -13,6 +13,7 @@
 // - sin_kernel, sincos_moderate, wrap_angle_near: est::imath's bits (est/math/inline_math.hpp) where those are
 //   defined.
 // - exp(x): imath::exp's (and so fmath::exp's) bits for x in (-85, 0] (the lanes outside reported in the mask).
+// - normal_cdf(z): est::normal_cdf's bits for every z.
 #include <cstdint>
 #include <cstring>
 
@@ -136,6 +137,25 @@ inline I exp(F x, F& e) {
   const F scale = from_bits(__builtin_convertvector(127 + k, U) << 23);
   e = (ax < 0x39000000u) ? 1.0f + x : y * scale;
   return (x > -85.0f) & (x <= 0.0f);
+}
+
+// est::normal_cdf (est/math/normal.hpp) lane-wise: its bits for every finite z (its exp's argument is in [-81, 0],
+// exp's inline range); NaN gives 0.5, as there.
+inline F normal_cdf(F z) {
+  constexpr float kInvSqrt2 = 0.70710678118654752440f;
+  const F x = abs(z) * kInvSqrt2;
+  const I far = x > 9.0f;
+  const F xs = far ? splat(0.0f) : x;  // keeps exp's argument in range where the tail is not used
+  const F t = 1.0f / (1.0f + 0.3275911f * xs);
+  const F poly =
+      t * (0.254829592f + t * (-0.284496736f + t * (1.421413741f + t * (-1.453152027f + t * 1.061405429f))));
+  F e;
+  exp(-xs * xs, e);
+  const F tail = 0.5f * poly * e;
+  const I neg = z < 0.0f;
+  const F near = neg ? tail : 1.0f - tail;
+  const F ends = neg ? splat(0.0f) : splat(1.0f);
+  return (z == z) ? (far ? ends : near) : splat(0.5f);
 }
 
 // ---------------------------------------------------------------------------------------------------------------

@@ -16,8 +16,9 @@
 // (log 1e-30), so a scan's log-likelihood is never -inf or NaN; a non-finite pose gets the floor on every beam.
 //
 // Speed without changing a bit: the Gaussian's and p_short's exp are fmath::exp inlined (est/math/inline_exp.hpp,
-// the same bits), p_hit's truncation mass for a ray with no hit (z* = z_max) is computed once in configure(), and
-// what depends on the reading alone can be prepared once per scan (reading(), est/sensor/beam_readings.hpp).
+// the same bits), p_hit's truncation mass for a ray with no hit (z* = z_max) is computed once in configure(), what
+// depends on the reading alone can be prepared once per scan (reading(), est/sensor/beam_readings.hpp), and on the
+// host densities() takes four beams at a time in SSE2 lanes (the same bits).
 #include <cstdint>
 
 #include "est/geometry/pose2.hpp"
@@ -25,6 +26,9 @@
 #include "est/math/inline_exp.hpp"
 #include "est/math/normal.hpp"
 #include "est/sensor/range_scan.hpp"
+#if !defined(__arm__)
+#include "est/math/lanes.hpp"
+#endif
 
 namespace est {
 
@@ -130,6 +134,20 @@ class BeamRangeFinderModel {
     return p;
   }
 
+  // out[k] = density(r[k], z_exp[k]) for k < n, bit for bit. On the host kLanes beams at a time (est/math/lanes.hpp:
+  // the same operations in the same order, selects instead of the branches, the truncation mass by lanes::normal_cdf
+  // only when a lane needs it; a group where lambda z* >= 85, outside the lanes' exp, is taken one beam at a time).
+  // The boards, whose FPU gains nothing from lanes, take the scalar density.
+  void densities(const Reading* r, const float* z_exp, float* out, std::int32_t n) const {
+    std::int32_t k = 0;
+#if !defined(__arm__)
+    for (; k + static_cast<std::int32_t>(lanes::kLanes) <= n; k += static_cast<std::int32_t>(lanes::kLanes))
+      if (!densities_lanes(r + k, z_exp + k, out + k))
+        for (std::int32_t j = k; j < k + static_cast<std::int32_t>(lanes::kLanes); ++j) out[j] = density(r[j], z_exp[j]);
+#endif
+    for (; k < n; ++k) out[k] = density(r[k], z_exp[k]);
+  }
+
  private:
   // A finite reading clamped to [0, range_max] with its max-or-rand constant; short_num left 0.
   Reading clamped(float z) const {
@@ -168,6 +186,47 @@ class BeamRangeFinderModel {
     const float norm = x < 1e-3f ? x * (1.0f - 0.5f * x * (1.0f - x * (1.0f / 3.0f))) : 1.0f - imath::exp(-x);
     return p + short_num / norm;
   }
+
+#if !defined(__arm__)
+  // density() of kLanes beams; false (out untouched) when a lane's p_short normalizer needs exp below -85.
+  bool densities_lanes(const Reading* r, const float* z_exp, float* out) const {
+    using lanes::F;
+    using lanes::I;
+    const F rm = lanes::splat(p_.range_max);
+    F ze = lanes::load(z_exp);
+    ze = ze < 0.0f ? lanes::splat(0.0f) : (ze > rm ? rm : ze);  // clamp_range
+    const F z = {r[0].z, r[1].z, r[2].z, r[3].z};
+    const F u = (z - ze) * inv_sigma_;
+    const I hit_in = (u > -12.0f) & (u < 12.0f);
+    const F a = (0.0f - ze) * inv_sigma_;
+    const F b = (rm - ze) * inv_sigma_;
+    const I near_end = hit_in & ((a > -5.5f) | (b < 5.5f));
+    F mass = lanes::splat(1.0f);
+    if (lanes::any(near_end)) {
+      F m = lanes::normal_cdf(b) - lanes::normal_cdf(a);  // hit_mass()
+      m = m < 1e-30f ? lanes::splat(1e-30f) : m;
+      mass = near_end ? ((ze == rm) ? lanes::splat(mass_at_max_) : m) : mass;
+    }
+    F g;
+    lanes::exp(hit_in ? (-0.5f * u) * u : lanes::splat(0.0f), g);
+    const F hit = hit_coeff_ * g;
+    F p = F{r[0].base, r[1].base, r[2].base, r[3].base};
+    p = hit_in ? p + ((mass == 1.0f) ? hit : hit / mass) : p;
+    if (p_.z_short > 0.0f) {
+      const F x = p_.lambda_short * ze;
+      const I short_in = (z <= ze) & (x >= 1e-6f);
+      F e;
+      const I exp_in = lanes::exp(short_in ? -x : lanes::splat(0.0f), e);
+      if (lanes::any(short_in & ~exp_in)) return false;  // lambda z* >= 85: fmath::exp's underflow path
+      const F small = x * (1.0f - 0.5f * x * (1.0f - x * (1.0f / 3.0f)));
+      const F norm = short_in ? ((x < 1e-3f) ? small : 1.0f - e) : lanes::splat(1.0f);
+      const F sn = {r[0].short_num, r[1].short_num, r[2].short_num, r[3].short_num};
+      p = short_in ? p + sn / norm : p;
+    }
+    lanes::store(out, p);
+    return true;
+  }
+#endif
 
   BeamModelParams p_{};
   float inv_sigma_ = 1.0f;
