@@ -201,17 +201,23 @@ class BeamRangeFinderModel {
     const F a = (0.0f - ze) * inv_sigma_;
     const F b = (rm - ze) * inv_sigma_;
     const I near_end = hit_in & ((a > -5.5f) | (b < 5.5f));
-    F mass = lanes::splat(1.0f);
-    if (lanes::any(near_end)) {
-      F m = lanes::normal_cdf(b) - lanes::normal_cdf(a);  // hit_mass()
-      m = m < 1e-30f ? lanes::splat(1e-30f) : m;
-      mass = near_end ? ((ze == rm) ? lanes::splat(mass_at_max_) : m) : mass;
-    }
     F g;
     lanes::exp(hit_in ? (-0.5f * u) * u : lanes::splat(0.0f), g);
-    const F hit = hit_coeff_ * g;
+    F hit = hit_coeff_ * g;
+    if (lanes::any(near_end)) {
+      // hit_mass(): Phi(b) - Phi(a), where b >= 0 >= a. Each Phi only where a lane needs it: beyond 9 sqrt 2 (its
+      // tails' cut) Phi(b) is 1 and Phi(a) 0, as normal_cdf() returns there.
+      constexpr float kInvSqrt2 = 0.70710678118654752440f;
+      const I need = near_end & (ze != rm);
+      const F cb = lanes::any(need & (lanes::abs(b) * kInvSqrt2 <= 9.0f)) ? lanes::normal_cdf(b) : lanes::splat(1.0f);
+      const F ca = lanes::any(need & (lanes::abs(a) * kInvSqrt2 <= 9.0f)) ? lanes::normal_cdf(a) : lanes::splat(0.0f);
+      F m = cb - ca;
+      m = m < 1e-30f ? lanes::splat(1e-30f) : m;
+      const F mass = near_end ? (need ? m : lanes::splat(mass_at_max_)) : lanes::splat(1.0f);
+      hit = (mass == 1.0f) ? hit : hit / mass;  // x / 1 is x: no division away from the ends, the same float
+    }
     F p = F{r[0].base, r[1].base, r[2].base, r[3].base};
-    p = hit_in ? p + ((mass == 1.0f) ? hit : hit / mass) : p;
+    p = hit_in ? p + hit : p;
     if (p_.z_short > 0.0f) {
       const F x = p_.lambda_short * ze;
       const I short_in = (z <= ze) & (x >= 1e-6f);
@@ -220,8 +226,10 @@ class BeamRangeFinderModel {
       if (lanes::any(short_in & ~exp_in)) return false;  // lambda z* >= 85: fmath::exp's underflow path
       const F small = x * (1.0f - 0.5f * x * (1.0f - x * (1.0f / 3.0f)));
       const F norm = short_in ? ((x < 1e-3f) ? small : 1.0f - e) : lanes::splat(1.0f);
-      const F sn = {r[0].short_num, r[1].short_num, r[2].short_num, r[3].short_num};
-      p = short_in ? p + sn / norm : p;
+      if (lanes::any(short_in)) {
+        const F sn = {r[0].short_num, r[1].short_num, r[2].short_num, r[3].short_num};
+        p = short_in ? p + sn / norm : p;
+      }
     }
     lanes::store(out, p);
     return true;
