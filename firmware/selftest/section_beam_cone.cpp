@@ -22,8 +22,8 @@ BeamReadingsStorage<71> g_readings;
 }  // namespace
 
 // The beam model over the exact cone caster, bytes and packed: single casts, and the model at 32 poses. 71 beams,
-// so the host's lanes take every path (64 beams in groups of 16, 4 in a group of 4, 3 one at a time) and the boards
-// their scalar loop: the digests must agree.
+// so the host's lanes walk a chunk of 64 and a last group of 16 padded with refused rays, and the boards their
+// scalar loop: the digests must agree.
 std::uint64_t section_beam_cone() {
   Digest d;
   Rng rng(20261207u);

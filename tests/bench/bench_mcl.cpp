@@ -1,6 +1,7 @@
 // Monte Carlo localization stages on the Intel lab map (or, without the shared datasets, a synthetic map of the same
-// size, said in the output): predict, weight (beam model with the distance-transform ray caster and with the heading
-// lookup table and prepared readings; likelihood field, batched and scalar) and resample, for N particles and K beams
+// size, said in the output): predict, weight (beam model with the distance-transform ray caster, the exact cone caster
+// and the heading lookup table, the last two with prepared readings; likelihood field, batched and scalar) and
+// resample, for N particles and K beams
 // (default N = 256 .. 65536 by 4, K = 60 and 360; the exact-casting beam model to N = 16384, its cost being 100x);
 // then the machine, a summary in ns per particle / particle-beam against the project's targets (issue 14) and the
 // peers' figures, and the memory of every acceleration structure. Per-thread CPU time; figures only, nothing is
@@ -25,12 +26,14 @@
 #include "est/filter/augmented_mcl.hpp"
 #include "est/filter/free_space_sampler.hpp"
 #include "est/map/distance_transform.hpp"
+#include "est/map/cone_ray_caster.hpp"
 #include "est/map/heading_range_table.hpp"
 #include "est/map/ray_casting.hpp"
 #include "est/motion/bicycle_model.hpp"
 #include "est/motion/diff_drive_model.hpp"
 #include "est/motion/motion_batch.hpp"
 #include "est/sensor/beam_range_finder_model.hpp"
+#include "est/sensor/beam_range_finder_model_cone.hpp"
 #include "est/sensor/beam_range_finder_model_table.hpp"
 #include "est/sensor/beam_readings.hpp"
 #include "est/sensor/likelihood_field_grid.hpp"
@@ -50,6 +53,8 @@ est::LikelihoodFieldGridStorage<1024, 1024> g_field_grid;
 // The beam model's lookup table: 64 headings (5.6 deg) per cell, sized for the 888 x 848 map (92 MiB).
 constexpr std::int32_t kTableBins = 64;
 est::HeadingRangeTableStorage<888, 848, kTableBins> g_table;
+// The exact beam model's cone caster at as many headings: 1 B per cell and heading (46 MiB), the same bearings.
+est::ConeRayCasterStorage<kTableBins, 888, 848> g_cone;
 // Per K (every 360/K-th beam of the 360-beam scan): the prepared scan, bearings and readings.
 std::map<std::int64_t, std::unique_ptr<est::PreparedScan<360>>> g_scans;
 std::map<std::int64_t, std::unique_ptr<est::BeamBearingsStorage<360>>> g_bearings;
@@ -64,13 +69,14 @@ est::BeamRangeFinderModel g_beam;
 std::string g_map_name;
 est::Pose2 g_truth;
 float g_mean_range = 0.0f;
-double g_edt_build_ms = 0.0, g_field_grid_build_ms = 0.0, g_table_build_ms = 0.0;
+double g_edt_build_ms = 0.0, g_field_grid_build_ms = 0.0, g_table_build_ms = 0.0, g_cone_build_ms = 0.0;
 
 // The table's range error against the exact traversal, from random free cells in random directions.
 struct TableError {
   int rays = 0;
   double mean = 0.0, p50 = 0.0, p90 = 0.0, p99 = 0.0, max = 0.0, within_10cm = 0.0, within_sigma = 0.0;
-  double exact_ns = 0.0, dt_ns = 0.0, table_ns = 0.0;
+  double exact_ns = 0.0, dt_ns = 0.0, table_ns = 0.0, cone_ns = 0.0;
+  int cone_identical = 0, cone_within_cell = 0;  // the cone caster's rays: the same float as the exact, within a cell
 };
 TableError g_table_error;
 
@@ -126,6 +132,10 @@ void setup() {
       g_grid.grid(), est::DistanceTransformRayCaster(g_grid.grid(), g_edt.view()), kTableBins, kRangeMax);
   g_table_build_ms = ms_since(t0);
   if (ts != est::HeadingRangeTableStatus::ok) std::printf("heading table build FAILED (%d)\n", static_cast<int>(ts));
+  t0 = std::chrono::steady_clock::now();
+  const est::ConeRayCasterStatus cs = g_cone.build(g_grid.grid(), kTableBins);
+  g_cone_build_ms = ms_since(t0);
+  if (cs != est::ConeRayCasterStatus::ok) std::printf("cone caster build FAILED (%d)\n", static_cast<int>(cs));
   est::BeamModelParams bp;
   bp.range_max = kRangeMax;
   g_beam.configure(bp);
@@ -180,7 +190,10 @@ void setup() {
       std::int32_t cx = 0, cy = 0;
       if (!g.world_to_cell(x, y, cx, cy) || g.classify(cx, cy) != est::CellClass::free) continue;
       const float dx = std::cos(th), dy = std::sin(th);
-      err.push_back(std::fabs(double(table.cast(x, y, dx, dy, kRangeMax)) - double(exact.cast(x, y, dx, dy, kRangeMax))));
+      const float want = exact.cast(x, y, dx, dy, kRangeMax), cone = g_cone.view().cast(x, y, dx, dy, kRangeMax);
+      err.push_back(std::fabs(double(table.cast(x, y, dx, dy, kRangeMax)) - double(want)));
+      g_table_error.cone_identical += std::memcmp(&want, &cone, sizeof want) == 0 ? 1 : 0;
+      g_table_error.cone_within_cell += std::fabs(want - cone) <= g.resolution() ? 1 : 0;
       xs.push_back(x);
       ys.push_back(y);
       dxs.push_back(dx);
@@ -210,6 +223,8 @@ void setup() {
     e.exact_ns = per_ray([&](float x, float y, float dx, float dy) { return exact.cast(x, y, dx, dy, kRangeMax); });
     e.dt_ns = per_ray([&](float x, float y, float dx, float dy) { return dt.cast(x, y, dx, dy, kRangeMax); });
     e.table_ns = per_ray([&](float x, float y, float dx, float dy) { return table.cast(x, y, dx, dy, kRangeMax); });
+    const est::ConeRayCaster cone = g_cone.view();
+    e.cone_ns = per_ray([&](float x, float y, float dx, float dy) { return cone.cast(x, y, dx, dy, kRangeMax); });
     benchmark::DoNotOptimize(sink[0]);
   }
   est::MclConfig cfg;
@@ -327,6 +342,21 @@ void BM_weight_beam_table(benchmark::State& state) {
   set_items(state, static_cast<std::int64_t>(n) * z.count);
 }
 
+// z* cast exactly by the cone caster (the same floats as the exact traversal); bearings and readings as the table's
+// (est/sensor/beam_range_finder_model_cone.hpp; on this host 16 rays walked at once in SSE2 lanes).
+void BM_weight_beam_cone(benchmark::State& state) {
+  const auto n = static_cast<std::uint32_t>(state.range(0));
+  const est::ScanBeams z = scan(state.range(1));
+  const est::BeamBearings bearings = g_bearings.at(state.range(1))->view();
+  const est::BeamReadings readings = g_readings.at(state.range(1))->view();
+  Mcl& mcl = cloud(n);
+  const est::ConeRayCaster cone = g_cone.view();
+  for (auto _ : state)
+    mcl.correct(
+        [&](const est::Pose2& x) { return est::beam_range_finder_model(z, bearings, readings, x, {}, cone, g_beam); });
+  set_items(state, static_cast<std::int64_t>(n) * z.count);
+}
+
 void BM_resample(benchmark::State& state) {
   const auto n = static_cast<std::uint32_t>(state.range(0));
   Mcl& mcl = cloud(n);
@@ -395,6 +425,9 @@ void register_benchmarks() {
       ->Unit(benchmark::kMicrosecond)
       ->MinTime(0.2);
   RegisterBenchmark("BM_weight_beam_table", BM_weight_beam_table)
+      ->Apply(particle_beam_args)
+      ->Unit(benchmark::kMicrosecond);
+  RegisterBenchmark("BM_weight_beam_cone", BM_weight_beam_cone)
       ->Apply(particle_beam_args)
       ->Unit(benchmark::kMicrosecond);
   RegisterBenchmark("BM_resample", BM_resample)->Apply(particle_args)->Unit(benchmark::kMicrosecond);
@@ -521,36 +554,42 @@ double spread(const Collector& c, const std::string& stem, bool with_k) {
 
 void summary(const Collector& c) {
   std::printf("\n=== MCL stages, ns per item (per-thread CPU time) ===\n");
-  std::printf("%7s %4s | %9s %9s %9s %9s | %9s %9s %9s %9s | %9s\n", "N", "K", "bike bat.", "dd batch",
-              "bike scal", "dd scalar", "LF batch", "LF scalar", "beam DT", "beam LUT", "resample");
-  std::printf("%7s %4s | %9s %9s %9s %9s | %9s %9s %9s %9s | %9s\n", "", "", "/particle", "/particle", "/particle",
-              "/particle", "/p-beam", "/p-beam", "/p-beam", "/p-beam", "/particle");
+  std::printf("%7s %4s | %9s %9s %9s %9s | %9s %9s %9s %9s %9s | %9s\n", "N", "K", "bike bat.", "dd batch",
+              "bike scal", "dd scalar", "LF batch", "LF scalar", "beam DT", "beam cone", "beam LUT", "resample");
+  std::printf("%7s %4s | %9s %9s %9s %9s | %9s %9s %9s %9s %9s | %9s\n", "", "", "/particle", "/particle", "/particle",
+              "/particle", "/p-beam", "/p-beam", "/p-beam", "/p-beam", "/p-beam", "/particle");
   for (const std::int64_t k : g_ks)
     for (const std::int64_t n : g_ns) {
       const std::string ns = std::to_string(n), nk = ns + "/" + std::to_string(k);
-      std::printf("%7lld %4lld | %9.1f %9.1f %9.1f %9.1f | %9.2f %9.2f %9.1f %9.1f | %9.1f\n",
+      std::printf("%7lld %4lld | %9.1f %9.1f %9.1f %9.1f | %9.2f %9.2f %9.1f %9.1f %9.1f | %9.1f\n",
                   static_cast<long long>(n), static_cast<long long>(k), get(c, "BM_predict_bicycle_batch/" + ns),
                   get(c, "BM_predict_diff_drive_batch/" + ns),
                   get(c, "BM_predict_bicycle/" + ns), get(c, "BM_predict_diff_drive/" + ns),
                   get(c, "BM_weight_likelihood_field/" + nk), get(c, "BM_weight_likelihood_field_scalar/" + nk),
-                  get(c, "BM_weight_beam/" + nk), get(c, "BM_weight_beam_table/" + nk), get(c, "BM_resample/" + ns));
+                  get(c, "BM_weight_beam/" + nk), get(c, "BM_weight_beam_cone/" + nk), get(c, "BM_weight_beam_table/" + nk),
+                  get(c, "BM_resample/" + ns));
     }
   const std::string n_hi = std::to_string(g_ns.back()), k_hi = std::to_string(g_ks.back());
   const std::string steady = n_hi + "/" + k_hi;
   // Each target is judged at its WORST size (the largest per-item cost over every N, and every K for the weights),
   // and the steady-state figure (the largest N and K) is shown beside it.
   const double lf = worst(c, "BM_weight_likelihood_field", true), beam_dt = worst(c, "BM_weight_beam", true);
-  const double beam = worst(c, "BM_weight_beam_table", true);
+  const double beam = worst(c, "BM_weight_beam_table", true), cone = worst(c, "BM_weight_beam_cone", true);
   const double bike = worst(c, "BM_predict_bicycle_batch", false), dd = worst(c, "BM_predict_diff_drive_batch", false);
   const double rs = worst(c, "BM_resample", false);
   std::printf("\n=== targets of issue 14 (judged at the worst N, K; steady state N = %s, K = %s in brackets) ===\n",
               n_hi.c_str(), k_hi.c_str());
   std::printf("likelihood field weight <= 1.0 ns/particle-beam : %6.2f (%5.2f)  %s\n", lf,
               get(c, "BM_weight_likelihood_field/" + steady), verdict(lf, 1.0));
-  std::printf("beam model weight       <= 40 ns/particle-beam  : %6.1f (%5.1f)  %s  heading lookup table (%d bins),"
-              " readings prepared per scan, one log per particle; distance-transform caster %.1f (%s)\n",
-              beam, get(c, "BM_weight_beam_table/" + steady), verdict(beam, 40.0), kTableBins, beam_dt,
-              verdict(beam_dt, 40.0));
+  const TableError& e = g_table_error;
+  std::printf("beam model weight, exact to one cell, <= 40 ns/particle-beam : %6.1f (%5.1f)  %s  cone caster (%d "
+              "headings, %.0f MiB; %.2f %% of rays the exact float, %.2f %% within a cell), readings prepared per "
+              "scan, one log per particle\n",
+              cone, get(c, "BM_weight_beam_cone/" + steady), verdict(cone, 40.0), kTableBins,
+              static_cast<double>(g_cone.bytes_used()) / 1048576.0, 100.0 * e.cone_identical / e.rays,
+              100.0 * e.cone_within_cell / e.rays);
+  std::printf("  (not exact: the heading lookup table %.1f (%.1f); exact, the distance-transform caster %.1f)\n", beam,
+              get(c, "BM_weight_beam_table/" + steady), beam_dt);
   std::printf(
       "motion sampling, bicycle    <= 15 ns/particle   : %6.1f (%5.1f)  %s  batched; per-particle sampler %.1f\n", bike,
       get(c, "BM_predict_bicycle_batch/" + n_hi), verdict(bike, 15.0), get(c, "BM_predict_bicycle/" + n_hi));
@@ -562,7 +601,6 @@ void summary(const Collector& c) {
   std::printf("KLD resampling (no target; a tracking cloud, 500 drawn): %.1f us at N = 256, %.1f us at N = 16384\n"
               "  (table 8.4's count from i.i.d. draws, a binary search each, then the comb over the weighted set)\n",
               get(c, "BM_resample_kld/256") * 256e-3, get(c, "BM_resample_kld/16384") * 16384e-3);
-  const TableError& e = g_table_error;
   std::printf(
       "  beam model's table: %.0f MiB, built in %.0f ms; |z*_table - z*_exact| over %d rays to %.0f m from free cells:\n"
       "  mean %.3f m, median %.3f m, p90 %.3f m, p99 %.2f m, max %.2f m; %.1f %% within 0.10 m, %.1f %% within\n"
@@ -570,9 +608,10 @@ void summary(const Collector& c) {
       static_cast<double>(est::HeadingRangeTableStorage<888, 848, kTableBins>::kBytes) / 1048576.0, g_table_build_ms,
       e.rays, static_cast<double>(kRangeMax), e.mean, e.p50, e.p90, e.p99, e.max, 100.0 * e.within_10cm,
       100.0 * e.within_sigma);
-  std::printf("  ray cast alone over the same rays: exact %.0f ns, distance transform %.0f ns, table %.1f ns (atan2 path)\n",
-              e.exact_ns, e.dt_ns, e.table_ns);
-  const double s_lf = spread(c, "BM_weight_likelihood_field", true), s_beam = spread(c, "BM_weight_beam", true);
+  std::printf("  ray cast alone over the same rays: exact %.0f ns, distance transform %.0f ns, table %.1f ns (atan2 path), "
+              "cone %.0f ns (one ray at a time, an atan2 each)\n",
+              e.exact_ns, e.dt_ns, e.table_ns, e.cone_ns);
+  const double s_lf = spread(c, "BM_weight_likelihood_field", true), s_beam = spread(c, "BM_weight_beam_cone", true);
   const double s_pred = spread(c, "BM_predict_bicycle_batch", false), s_rs = spread(c, "BM_resample", false);
   std::printf("cost linear in N x K (max/min per-item cost over all N, K; <= 1.5 counts as linear):\n");
   std::printf("  likelihood field %.2f %s, beam %.2f %s, predict %.2f %s, resample %.2f %s\n", s_lf,
@@ -582,8 +621,8 @@ void summary(const Collector& c) {
   std::printf("stage                               | Beluga 2.1.1 | MRPT 2.5.8 | this build\n");
   std::printf("(this build: worst over N and K)\n");
   std::printf("likelihood field, ns/particle-beam  | ~5           | ~20        | %.2f\n", lf);
-  std::printf("beam / ray tracing, ns/particle-beam | ~360         | ~230       | %.1f (table), %.1f (exact DT)\n", beam,
-              beam_dt);
+  std::printf("beam / ray tracing, ns/particle-beam | ~360         | ~230       | %.1f (exact cone), %.1f (table), %.1f "
+              "(exact DT)\n", cone, beam, beam_dt);
   std::printf(
       "motion sampling, ns/particle        | ~128         | ~165       | %.1f (bicycle), %.1f (diff drive)"
       " batched\n",
@@ -623,6 +662,8 @@ int main(int argc, char** argv) {
   std::printf("  heading range table  %d x 2 B/cell: %8.0f KiB (build %.0f ms: %d casts from cell centres, distance-"
               "transform caster)\n",
               kTableBins, 2.0 * kTableBins * cells / 1024.0, g_table_build_ms, static_cast<int>(cells) * kTableBins);
+  std::printf("  cone caster          %d x 1 B/cell: %8.0f KiB (build %.0f ms; exact)\n", kTableBins,
+              static_cast<double>(g_cone.bytes_used()) / 1024.0, g_cone_build_ms);
   Collector collector;
   register_benchmarks();
   benchmark::Initialize(&argc, argv);
