@@ -137,33 +137,17 @@ class BasicConeRayCaster {
     std::uint32_t e = entry(q, sh, static_cast<std::uint32_t>(r.iy * w + r.ix));
     float t = 0.0f;
     const std::int32_t bound = 3 * (w + h) + 8;
-    // A jump is taken in fixed point, an exact step in floats (GridRay::step(), from the cell's index). The ray's
-    // parameter t is kept in 2^-14 cell (tq), its start in 2^-12 cell and its direction in 2^-30: a jump adds
-    // e - 1 - 1/64 to tq exactly and lands by the high word of one 32 x 32-bit product per axis (SMMUL on the
-    // Cortex-M) and a shift, whose floor is the cell (-1 off the low edge); the landing is within 2^-10 cell of the
-    // float one, well inside the 1/64 cell of slack the entries keep for rounding. On the map t is under the
-    // diagonal (< 92 682 cells for the largest grid), so tq stays below 2^31, and |d| <= 1.5 keeps d's fixed point
-    // in 32 bits. (>> of a negative value is the floor with GCC and Clang, the compilers built for; C++20 makes it
-    // the rule.)
-    const std::int32_t gxq = static_cast<std::int32_t>(r.gx * 4096.0f);
-    const std::int32_t gyq = static_cast<std::int32_t>(r.gy * 4096.0f);
-    const std::int64_t dxq = static_cast<std::int32_t>(r.dx * 1073741824.0f);
-    const std::int64_t dyq = static_cast<std::int32_t>(r.dy * 1073741824.0f);
-    const std::int32_t tmq = static_cast<std::int32_t>((r.t_max < 130000.0f ? r.t_max : 130000.0f) * kQ);
-    std::int32_t tq = 0;
-    const std::uint32_t uw = static_cast<std::uint32_t>(w), uh = static_cast<std::uint32_t>(h);
+    // A jump adds e - 1 - 1/64 cells to t and lands where the ray is then (GridRay::land()); an exact step is
+    // GridRay::step(), from the cell's index. The landing's rounding is far inside the 1/64 cell of slack the entries
+    // keep.
+    const float fw = static_cast<float>(w), fh = static_cast<float>(h);
     for (std::int32_t n = 0; n < bound; ++n) {
       if (e >= 2u) {
-        tq += static_cast<std::int32_t>(e << 14) - (16384 + 256);  // e - 1 - 1/64 cells
-        if (!(tq < tmq)) return max_range;
-        r.ix = (gxq + static_cast<std::int32_t>((tq * dxq) >> 32)) >> 12;
-        r.iy = (gyq + static_cast<std::int32_t>((tq * dyq) >> 32)) >> 12;
-        if (!(static_cast<std::uint32_t>(r.ix) < uw && static_cast<std::uint32_t>(r.iy) < uh)) return max_range;
-        t = static_cast<float>(tq) * (1.0f / kQ);
+        t += static_cast<float>(e) - (1.0f + 1.0f / 64.0f);
+        if (!(t < r.t_max) || !r.land(t, w, h, fw, fh)) return max_range;
       } else {
         t = r.step();
         if (!(t < r.t_max) || !grid_.contains(r.ix, r.iy)) return max_range;
-        tq = static_cast<std::int32_t>(t * kQ);
       }
       e = entry(q, sh, static_cast<std::uint32_t>(r.iy * w + r.ix));
       if (e == 0u) return detail::cells_to_range(t, grid_.resolution(), max_range);
@@ -180,6 +164,10 @@ class BasicConeRayCaster {
   void cast_lanes_from(const Origin& o, const float* dx, const float* dy, const float* heading_bins, float max_range,
                        float* out) const {
     const std::int32_t w = grid_.width(), h = grid_.height();
+    if (w >= 32768) {  // beyond the lanes' 16-bit index product: one ray at a time
+      for (std::uint32_t i = 0; i < 4 * G; ++i) out[i] = cast_from(o, dx[i], dy[i], heading_bins[i], max_range);
+      return;
+    }
     Lanes4 g[G];
     const detail::GridRay& r = o.ray;
     // aim()'s refusals for all: no walk from here, or no range.
@@ -206,8 +194,11 @@ class BasicConeRayCaster {
       const __m128 one = _mm_set1_ps(1.0f);
       l.idx = _mm_and_ps(_mm_castsi128_ps(_mm_or_si128(gtx, ltx)), _mm_div_ps(one, vdx));
       l.idy = _mm_and_ps(_mm_castsi128_ps(_mm_or_si128(gty, lty)), _mm_div_ps(one, vdy));
-      l.dxq = _mm_cvttps_epi32(_mm_mul_ps(vdx, _mm_set1_ps(1073741824.0f)));
-      l.dyq = _mm_cvttps_epi32(_mm_mul_ps(vdy, _mm_set1_ps(1073741824.0f)));
+      const __m128 never = _mm_set1_ps(detail::GridRay::kNever), below = _mm_set1_ps(-__builtin_inff());
+      l.nx = sel_ps(_mm_or_si128(gtx, ltx), below, never);
+      l.ny = sel_ps(_mm_or_si128(gty, lty), below, never);
+      l.dx = vdx;
+      l.dy = vdy;
       // The heading bin as cast_from() picks it; the table's planes and the start's entries one lane at a time.
       const __m128 f = _mm_add_ps(_mm_add_ps(_mm_loadu_ps(heading_bins + 4 * k), _mm_set1_ps(0.5f)),
                                   _mm_set1_ps(1048576.0f));
@@ -232,24 +223,22 @@ class BasicConeRayCaster {
       l.res = _mm_and_ps(_mm_castsi128_ps(ok), _mm_set1_ps(max_range));
       l.ix = _mm_set1_epi32(r.ix);
       l.iy = _mm_set1_epi32(r.iy);
-      l.tq = zero;
       l.t = _mm_setzero_ps();
       active |= _mm_movemask_ps(_mm_castsi128_ps(ok));
     }
     if (active != 0) {
       const float t_max = max_range * grid_.inv_resolution();  // aim()'s, the same for every ray
       Walk c;
-      c.gxq = _mm_set1_epi32(static_cast<std::int32_t>(r.gx * 4096.0f));
-      c.gyq = _mm_set1_epi32(static_cast<std::int32_t>(r.gy * 4096.0f));
-      c.tmq = _mm_set1_epi32(static_cast<std::int32_t>((t_max < 130000.0f ? t_max : 130000.0f) * kQ));
+      c.fw = _mm_set1_ps(static_cast<float>(w));
+      c.fh = _mm_set1_ps(static_cast<float>(h));
       c.gx = _mm_set1_ps(r.gx);
       c.gy = _mm_set1_ps(r.gy);
       c.tmax = _mm_set1_ps(t_max);
-      c.w = _mm_set1_epi32(w);
-      c.h = _mm_set1_epi32(h);
+      c.wb = _mm_set1_epi32(w ^ INT32_MIN);
+      c.hb = _mm_set1_epi32(h ^ INT32_MIN);
+      c.wv = _mm_set1_epi32(w);
       c.res_cell = _mm_set1_ps(grid_.resolution());
       c.mr = _mm_set1_ps(max_range);
-      c.width = w;
       const std::int32_t bound = 3 * (w + h) + 8;
       for (std::int32_t n = 0; n < bound; ++n) {
         bool any = false;
@@ -262,88 +251,71 @@ class BasicConeRayCaster {
 #endif
 
  private:
-  static constexpr float kQ = 16384.0f;  // fixed point of a jump: 2^-14 cell
 #if defined(__SSE2__)
   // Four rays' walk: their cells, fixed-point and float parameters, entries and what each ray was aimed with.
   struct Lanes4 {
-    __m128i ix, iy, tq, e, act, dxq, dyq, sx, sy, ax, ay;
-    __m128 t, idx, idy, res;
+    __m128i ix, iy, e, act, sx, sy, ax, ay;
+    __m128 t, dx, dy, idx, idy, nx, ny, res;
     const std::uint8_t* q[4];
     std::uint32_t sh[4];
   };
   // What the rays share: their start, the map, the range.
   struct Walk {
-    __m128i gxq, gyq, tmq, w, h;
-    __m128 gx, gy, tmax, res_cell, mr;
-    std::int32_t width;
+    __m128i wb, hb, wv;  // w and h biased by 2^31; w for the index's product
+    __m128 gx, gy, fw, fh, tmax, res_cell, mr;
   };
   static __m128i load(const std::int32_t* p) { return _mm_load_si128(reinterpret_cast<const __m128i*>(p)); }
   // One move of each active lane of l (cast_from()'s loop body); false when none was active.
   static bool move(Lanes4& l, const Walk& c) {
     __m128i act = l.act;
     if (_mm_movemask_ps(_mm_castsi128_ps(act)) == 0) return false;
-    const __m128i none = _mm_set1_epi32(-1), zero = _mm_setzero_si128();
-    const __m128i e = l.e, ix = l.ix, iy = l.iy, tq = l.tq;
+    const __m128i e = l.e, ix = l.ix, iy = l.iy;
     const __m128i jump = _mm_cmpgt_epi32(e, _mm_set1_epi32(1));
-    // The jump: tq + e - 1 - 1/64 cells, landed by the high words of tq dq.
-    const __m128i tqj = _mm_add_epi32(tq, _mm_sub_epi32(_mm_slli_epi32(e, 14), _mm_set1_epi32(16384 + 256)));
-    const __m128i ixj = _mm_srai_epi32(_mm_add_epi32(c.gxq, mulhi(tqj, l.dxq)), 12);
-    const __m128i iyj = _mm_srai_epi32(_mm_add_epi32(c.gyq, mulhi(tqj, l.dyq)), 12);
-    const __m128 tj = _mm_mul_ps(_mm_cvtepi32_ps(tqj), _mm_set1_ps(1.0f / kQ));
-    const __m128i okj = _mm_and_si128(_mm_cmplt_epi32(tqj, c.tmq), in_map(ixj, iyj, c.w, c.h, none));
-    // The step: GridRay::step().
-    const __m128 never = _mm_set1_ps(detail::GridRay::kNever);
-    const __m128 tx = sel_ps(_mm_cmpeq_epi32(l.sx, zero), never,
-                             _mm_mul_ps(_mm_sub_ps(_mm_cvtepi32_ps(_mm_add_epi32(ix, l.ax)), c.gx), l.idx));
-    const __m128 ty = sel_ps(_mm_cmpeq_epi32(l.sy, zero), never,
-                             _mm_mul_ps(_mm_sub_ps(_mm_cvtepi32_ps(_mm_add_epi32(iy, l.ay)), c.gy), l.idy));
+    // The jump: t + e - 1 - 1/64 cells, landed as GridRay::land() (its clamp to the last cell cannot act: p < w
+    // truncates below w).
+    const __m128 tj = _mm_add_ps(l.t, _mm_sub_ps(_mm_cvtepi32_ps(e), _mm_set1_ps(1.0f + 1.0f / 64.0f)));
+    const __m128 px = _mm_add_ps(c.gx, _mm_mul_ps(tj, l.dx));
+    const __m128 py = _mm_add_ps(c.gy, _mm_mul_ps(tj, l.dy));
+    const __m128 zf = _mm_setzero_ps();
+    const __m128i okj = _mm_castps_si128(
+        _mm_and_ps(_mm_and_ps(_mm_cmplt_ps(tj, c.tmax), _mm_and_ps(_mm_cmpge_ps(px, zf), _mm_cmpge_ps(py, zf))),
+                   _mm_and_ps(_mm_cmplt_ps(px, c.fw), _mm_cmplt_ps(py, c.fh))));
+    // The step: GridRay::step(). A crossing never taken (no step on that axis: inverse 0) is raised to kNever by a
+    // max with the lane's floor (kNever there, -inf elsewhere); min(tx, ty) is tx < ty ? tx : ty.
+    const __m128 tx = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(_mm_cvtepi32_ps(_mm_add_epi32(ix, l.ax)), c.gx), l.idx), l.nx);
+    const __m128 ty = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(_mm_cvtepi32_ps(_mm_add_epi32(iy, l.ay)), c.gy), l.idy), l.ny);
     const __m128i xs = _mm_castps_si128(_mm_cmplt_ps(tx, ty));
     const __m128i ixs = _mm_add_epi32(ix, _mm_and_si128(xs, l.sx));
     const __m128i iys = _mm_add_epi32(iy, _mm_andnot_si128(xs, l.sy));
-    const __m128 ts = sel_ps(xs, tx, ty);
-    const __m128i oks = _mm_and_si128(_mm_castps_si128(_mm_cmplt_ps(ts, c.tmax)), in_map(ixs, iys, c.w, c.h, none));
-    const __m128i tqs = _mm_cvttps_epi32(_mm_mul_ps(ts, _mm_set1_ps(kQ)));
-    // Each lane's move; a lane that leaves keeps max_range and stops.
+    const __m128 ts = _mm_min_ps(tx, ty);
+    // 0 <= i < w as one signed compare of both biased by 2^31.
+    const __m128i bias = _mm_set1_epi32(INT32_MIN);
+    const __m128i oks = _mm_and_si128(
+        _mm_castps_si128(_mm_cmplt_ps(ts, c.tmax)),
+        _mm_and_si128(_mm_cmpgt_epi32(c.wb, _mm_xor_si128(ixs, bias)), _mm_cmpgt_epi32(c.hb, _mm_xor_si128(iys, bias))));
+    // Each lane's move; a lane that leaves keeps max_range and stops. A lane no longer walked may hold any cell: its
+    // read is of cell 0.
     act = _mm_and_si128(act, sel(jump, okj, oks));
-    const __m128i nix = sel(act, sel(jump, ixj, ixs), ix);
-    const __m128i niy = sel(act, sel(jump, iyj, iys), iy);
+    const __m128i nix = sel(jump, _mm_cvttps_epi32(px), ixs), niy = sel(jump, _mm_cvttps_epi32(py), iys);
+    const __m128 t = sel_ps(jump, tj, ts);
     l.ix = nix;
     l.iy = niy;
-    l.tq = sel(act, sel(jump, tqj, tqs), tq);
-    const __m128 t = sel_ps(act, sel_ps(jump, tj, ts), l.t);
     l.t = t;
-    alignas(16) std::int32_t cx[4], cy[4];
-    _mm_store_si128(reinterpret_cast<__m128i*>(cx), nix);
-    _mm_store_si128(reinterpret_cast<__m128i*>(cy), niy);
-    const std::int32_t w = c.width;
-    const __m128i ne = _mm_setr_epi32(
-        static_cast<std::int32_t>(entry(l.q[0], l.sh[0], static_cast<std::uint32_t>(cy[0] * w + cx[0]))),
-        static_cast<std::int32_t>(entry(l.q[1], l.sh[1], static_cast<std::uint32_t>(cy[1] * w + cx[1]))),
-        static_cast<std::int32_t>(entry(l.q[2], l.sh[2], static_cast<std::uint32_t>(cy[2] * w + cx[2]))),
-        static_cast<std::int32_t>(entry(l.q[3], l.sh[3], static_cast<std::uint32_t>(cy[3] * w + cx[3]))));
+    // The cell's index iy w + ix: iy < 2^15 and w < 2^15 (cast_lanes_from() checks w), so one 16 x 16-bit product.
+    alignas(16) std::uint32_t i[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(i), _mm_and_si128(act, _mm_add_epi32(_mm_madd_epi16(niy, c.wv), nix)));
+    const __m128i ne = _mm_setr_epi32(static_cast<std::int32_t>(entry(l.q[0], l.sh[0], i[0])),
+                                      static_cast<std::int32_t>(entry(l.q[1], l.sh[1], i[1])),
+                                      static_cast<std::int32_t>(entry(l.q[2], l.sh[2], i[2])),
+                                      static_cast<std::int32_t>(entry(l.q[3], l.sh[3], i[3])));
     l.e = ne;
-    const __m128i hit = _mm_and_si128(act, _mm_cmpeq_epi32(ne, zero));
-    const __m128 range = _mm_mul_ps(t, c.res_cell);
-    l.res = sel_ps(hit, sel_ps(_mm_castps_si128(_mm_cmplt_ps(range, c.mr)), range, c.mr), l.res);
+    const __m128i hit = _mm_and_si128(act, _mm_cmpeq_epi32(ne, _mm_setzero_si128()));
+    l.res = sel_ps(hit, _mm_min_ps(_mm_mul_ps(t, c.res_cell), c.mr), l.res);  // cells_to_range()
     l.act = _mm_andnot_si128(hit, act);
     return true;
   }
   static __m128i sel(__m128i m, __m128i a, __m128i b) { return _mm_or_si128(_mm_and_si128(m, a), _mm_andnot_si128(m, b)); }
   static __m128 sel_ps(__m128i m, __m128 a, __m128 b) { return _mm_castsi128_ps(sel(m, _mm_castps_si128(a), _mm_castps_si128(b))); }
-  // 0 <= x < w and 0 <= y < h per lane.
-  static __m128i in_map(__m128i x, __m128i y, __m128i w, __m128i h, __m128i none) {
-    return _mm_and_si128(_mm_and_si128(_mm_cmpgt_epi32(x, none), _mm_cmplt_epi32(x, w)),
-                         _mm_and_si128(_mm_cmpgt_epi32(y, none), _mm_cmplt_epi32(y, h)));
-  }
-  // The high words of a b per lane for a >= 0 and any b (neg: b's sign mask): the unsigned products' high words,
-  // less a where b < 0.
-  static __m128i mulhi(__m128i a, __m128i b) {
-    const __m128i neg = _mm_srai_epi32(b, 31);
-    const __m128i p02 = _mm_mul_epu32(a, b);
-    const __m128i p13 = _mm_mul_epu32(_mm_srli_epi64(a, 32), _mm_srli_epi64(b, 32));
-    const __m128i hi = _mm_or_si128(_mm_srli_epi64(p02, 32), _mm_and_si128(p13, _mm_set_epi32(-1, 0, -1, 0)));
-    return _mm_sub_epi32(hi, _mm_and_si128(neg, a));
-  }
 #endif
 
   // Heading b's plane of the table, and the place of its half in a packed byte.
