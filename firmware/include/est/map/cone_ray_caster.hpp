@@ -10,11 +10,12 @@
 // it without passing an obstacle, reads the entry of the cell it lands in, and so on; where the bound is under one
 // cell it takes one exact step of the traversal instead. The traversal's crossings are computed from the cell index
 // and the ray's start (GridRay::step()), as after a jump of DistanceTransformRayCaster, so the range returned is
-// GridRayCaster's float, except where a jump lands within rounding of a cell corner. A jump is integer arithmetic
-// (fixed point, 2^-14 cell): a shorter chain of dependent operations than a float landing, the same bits everywhere.
+// GridRayCaster's float, except where a jump lands within rounding of a cell corner.
 // On the host (SSE2), cast_lanes_from() walks 16 rays from one start at once, four to a register, each lane taking
 // its jump or its step by selects: the same floats as cast_from() (tested), with the table reads of 16 rays in
-// flight instead of one ray's chain of them.
+// flight instead of one ray's chain of them. (A jump in fixed point, 2^-14 cell, shortened one ray's chain on the
+// host, 56-59 against 86 ns per particle-beam, but costs two 32 x 32-bit high products per move in SSE2 lanes and
+// nothing on the board: the jumps land in floats, as GridRay::land().)
 //
 // The bound, for a bin whose headings all have cos > 0 (x-dominant, the other three cases by symmetry): a ray from
 // (x0, y0) in [cx, cx + 1] x [cy, cy + 1] reaches column cx + i after a horizontal run of at least i - 1 cells, so
@@ -34,9 +35,10 @@
 // levels not above it, kConeLevels; the same ranges, a few more jumps: 154 KB for the room, 312 KiB for a 200 x 200
 // map at T = 16), plus 8 bytes per heading; the build's scratch: two prefix counts (2 bytes per cell each), a byte
 // per cell and a line of floats.
-// Cost (bench_sensor_models, Intel map, T = 64): 2.3 jumps and 2.3 exact steps per cast in the beam model, 56-59 ns
-// per particle-beam on the host (86 ns with float jumps, side by side); 523 instructions per particle-beam on the M4F
-// at T = 16, 596 packed (bench_mcl, README; 664 for bytes at T = 8, the packed table's memory). Every loop is
+// Cost (Intel map, T = 64, host, the beam model through cast_lanes_from() and lane densities): ~30 ns per
+// particle-beam in bench_sensor_models (2.3 jumps and 2.3 exact steps per cast), 40-47 in bench_mcl's workload (4.0
+// jumps and 2.7 steps: longer rays); on the M4F at T = 16 see the README's board table (bench_mcl; ~520 instructions
+// per particle-beam, ~600 packed). Every loop is
 // bounded: a jump advances the ray by at least 63/64 cell and a step moves it one cell, so a cast ends within
 // 3 (W + H) + 8 iterations; the accuracy is tested against GridRayCaster (tests/test_cone_ray_caster.cpp).
 // Build: per heading, kDirect + 1 prefix-count reads and a window of bounds per cell, in loops over whole lines;
@@ -162,10 +164,10 @@ class BasicConeRayCaster {
   // misses overlap, where one ray's reads are a chain.
   template <std::uint32_t G>
   void cast_lanes_from(const Origin& o, const float* dx, const float* dy, const float* heading_bins, float max_range,
-                       float* out) const {
+                       float* out, std::uint32_t groups = G) const {
     const std::int32_t w = grid_.width(), h = grid_.height();
     if (w >= 32768) {  // beyond the lanes' 16-bit index product: one ray at a time
-      for (std::uint32_t i = 0; i < 4 * G; ++i) out[i] = cast_from(o, dx[i], dy[i], heading_bins[i], max_range);
+      for (std::uint32_t i = 0; i < 4 * groups; ++i) out[i] = cast_from(o, dx[i], dy[i], heading_bins[i], max_range);
       return;
     }
     Lanes4 g[G];
@@ -177,7 +179,7 @@ class BasicConeRayCaster {
     const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
     const __m128i zero = _mm_setzero_si128();
     std::int32_t active = 0;
-    for (std::uint32_t k = 0; k < G; ++k) {
+    for (std::uint32_t k = 0; k < groups; ++k) {
       Lanes4& l = g[k];
       const __m128 vdx = _mm_loadu_ps(dx + 4 * k), vdy = _mm_loadu_ps(dy + 4 * k);
       // Finite with |d| <= 1.5 (NaN and inf fail the compare): aim()'s and cast_from()'s other refusals.
@@ -242,11 +244,11 @@ class BasicConeRayCaster {
       const std::int32_t bound = 3 * (w + h) + 8;
       for (std::int32_t n = 0; n < bound; ++n) {
         bool any = false;
-        for (std::uint32_t k = 0; k < G; ++k) any |= move(g[k], c);
+        for (std::uint32_t k = 0; k < groups; ++k) any |= move(g[k], c);
         if (!any) break;
       }
     }
-    for (std::uint32_t k = 0; k < G; ++k) _mm_storeu_ps(out + 4 * k, g[k].res);
+    for (std::uint32_t k = 0; k < groups; ++k) _mm_storeu_ps(out + 4 * k, g[k].res);
   }
 #endif
 

@@ -146,17 +146,17 @@ inline float beam_range_finder_model_over_bins(const ScanBeams& z, const BeamBea
   for (std::int32_t k0 = 0; k0 < z.count; k0 += kChunk) {
     const std::int32_t m = z.count - k0 < kChunk ? z.count - k0 : kChunk;
     if constexpr (detail::casts_four<BinCaster>::value) {
-      // Rays 16 at a time; the last group padded with refused rays (a NaN direction: no walk, its range unused).
+      // All the chunk's rays at once, four to a group; the last group padded with refused rays (a NaN direction: no
+      // walk, its range unused).
       float dxs[kChunk], dys[kChunk], hb[kChunk];
-      const std::int32_t padded = (m + 15) & ~15;
+      const std::int32_t padded = (m + 3) & ~3;
       for (std::int32_t j = 0; j < padded; ++j) {
         const std::int32_t k = k0 + (j < m ? j : 0);
         dxs[j] = j < m ? f.c * z.ux[k] - f.s * z.uy[k] : __builtin_nanf("");
         dys[j] = f.s * z.ux[k] + f.c * z.uy[k];
         hb[j] = heading_bins + bearings.bins_of_beam[k];
       }
-      for (std::int32_t j = 0; j < padded; j += 16)
-        caster.template cast_lanes_from<4>(o, dxs + j, dys + j, hb + j, zm, z_exp + j);
+      caster.template cast_lanes_from<kChunk / 4>(o, dxs, dys, hb, zm, z_exp, static_cast<std::uint32_t>(padded / 4));
     } else {
       for (std::int32_t j = 0; j < m; ++j) {
         const std::int32_t k = k0 + j;
