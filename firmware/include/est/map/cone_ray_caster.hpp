@@ -275,31 +275,51 @@ class BasicConeRayCaster {
     const __m128i jump = _mm_cmpgt_epi32(e, _mm_set1_epi32(1));
     // The jump: t + e - 1 - 1/64 cells, landed as GridRay::land() (its clamp to the last cell cannot act: p < w
     // truncates below w).
-    const __m128 tj = _mm_add_ps(l.t, _mm_sub_ps(_mm_cvtepi32_ps(e), _mm_set1_ps(1.0f + 1.0f / 64.0f)));
-    const __m128 px = _mm_add_ps(c.gx, _mm_mul_ps(tj, l.dx));
-    const __m128 py = _mm_add_ps(c.gy, _mm_mul_ps(tj, l.dy));
-    const __m128 zf = _mm_setzero_ps();
-    const __m128i okj = _mm_castps_si128(
-        _mm_and_ps(_mm_and_ps(_mm_cmplt_ps(tj, c.tmax), _mm_and_ps(_mm_cmpge_ps(px, zf), _mm_cmpge_ps(py, zf))),
-                   _mm_and_ps(_mm_cmplt_ps(px, c.fw), _mm_cmplt_ps(py, c.fh))));
+    auto jumps = [&](__m128i& jx, __m128i& jy, __m128& tj) {
+      tj = _mm_add_ps(l.t, _mm_sub_ps(_mm_cvtepi32_ps(e), _mm_set1_ps(1.0f + 1.0f / 64.0f)));
+      const __m128 px = _mm_add_ps(c.gx, _mm_mul_ps(tj, l.dx));
+      const __m128 py = _mm_add_ps(c.gy, _mm_mul_ps(tj, l.dy));
+      const __m128 zf = _mm_setzero_ps();
+      jx = _mm_cvttps_epi32(px);
+      jy = _mm_cvttps_epi32(py);
+      return _mm_castps_si128(
+          _mm_and_ps(_mm_and_ps(_mm_cmplt_ps(tj, c.tmax), _mm_and_ps(_mm_cmpge_ps(px, zf), _mm_cmpge_ps(py, zf))),
+                     _mm_and_ps(_mm_cmplt_ps(px, c.fw), _mm_cmplt_ps(py, c.fh))));
+    };
     // The step: GridRay::step(). A crossing never taken (no step on that axis: inverse 0) is raised to kNever by a
     // max with the lane's floor (kNever there, -inf elsewhere); min(tx, ty) is tx < ty ? tx : ty.
-    const __m128 tx = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(_mm_cvtepi32_ps(_mm_add_epi32(ix, l.ax)), c.gx), l.idx), l.nx);
-    const __m128 ty = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(_mm_cvtepi32_ps(_mm_add_epi32(iy, l.ay)), c.gy), l.idy), l.ny);
-    const __m128i xs = _mm_castps_si128(_mm_cmplt_ps(tx, ty));
-    const __m128i ixs = _mm_add_epi32(ix, _mm_and_si128(xs, l.sx));
-    const __m128i iys = _mm_add_epi32(iy, _mm_andnot_si128(xs, l.sy));
-    const __m128 ts = _mm_min_ps(tx, ty);
-    // 0 <= i < w as one signed compare of both biased by 2^31.
-    const __m128i bias = _mm_set1_epi32(INT32_MIN);
-    const __m128i oks = _mm_and_si128(
-        _mm_castps_si128(_mm_cmplt_ps(ts, c.tmax)),
-        _mm_and_si128(_mm_cmpgt_epi32(c.wb, _mm_xor_si128(ixs, bias)), _mm_cmpgt_epi32(c.hb, _mm_xor_si128(iys, bias))));
+    auto steps = [&](__m128i& sx, __m128i& sy, __m128& ts) {
+      const __m128 tx = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(_mm_cvtepi32_ps(_mm_add_epi32(ix, l.ax)), c.gx), l.idx), l.nx);
+      const __m128 ty = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(_mm_cvtepi32_ps(_mm_add_epi32(iy, l.ay)), c.gy), l.idy), l.ny);
+      const __m128i xs = _mm_castps_si128(_mm_cmplt_ps(tx, ty));
+      sx = _mm_add_epi32(ix, _mm_and_si128(xs, l.sx));
+      sy = _mm_add_epi32(iy, _mm_andnot_si128(xs, l.sy));
+      ts = _mm_min_ps(tx, ty);
+      // 0 <= i < w as one signed compare of both biased by 2^31.
+      const __m128i bias = _mm_set1_epi32(INT32_MIN);
+      return _mm_and_si128(
+          _mm_castps_si128(_mm_cmplt_ps(ts, c.tmax)),
+          _mm_and_si128(_mm_cmpgt_epi32(c.wb, _mm_xor_si128(sx, bias)), _mm_cmpgt_epi32(c.hb, _mm_xor_si128(sy, bias))));
+    };
     // Each lane's move; a lane that leaves keeps max_range and stops. A lane no longer walked may hold any cell: its
-    // read is of cell 0.
-    act = _mm_and_si128(act, sel(jump, okj, oks));
-    const __m128i nix = sel(jump, _mm_cvttps_epi32(px), ixs), niy = sel(jump, _mm_cvttps_epi32(py), iys);
-    const __m128 t = sel_ps(jump, tj, ts);
+    // read is of cell 0. When every walked lane jumps, or every one steps, the other move is not computed.
+    const int walked = _mm_movemask_ps(_mm_castsi128_ps(act));
+    const int jumping = _mm_movemask_ps(_mm_castsi128_ps(jump)) & walked;
+    __m128i nix, niy;
+    __m128 t;
+    if (jumping == walked) {
+      act = _mm_and_si128(act, jumps(nix, niy, t));
+    } else if (jumping == 0) {
+      act = _mm_and_si128(act, steps(nix, niy, t));
+    } else {
+      __m128i jx, jy, sx, sy;
+      __m128 tj, ts;
+      const __m128i okj = jumps(jx, jy, tj), oks = steps(sx, sy, ts);
+      act = _mm_and_si128(act, sel(jump, okj, oks));
+      nix = sel(jump, jx, sx);
+      niy = sel(jump, jy, sy);
+      t = sel_ps(jump, tj, ts);
+    }
     l.ix = nix;
     l.iy = niy;
     l.t = t;
