@@ -11,11 +11,12 @@
 // cell it takes one exact step of the traversal instead. The traversal's crossings are computed from the cell index
 // and the ray's start (GridRay::step()), as after a jump of DistanceTransformRayCaster, so the range returned is
 // GridRayCaster's float, except where a jump lands within rounding of a cell corner.
-// On the host (SSE2), cast_lanes_from() walks 16 rays from one start at once, four to a register, each lane taking
-// its jump or its step by selects: the same floats as cast_from() (tested), with the table reads of 16 rays in
-// flight instead of one ray's chain of them. (A jump in fixed point, 2^-14 cell, shortened one ray's chain on the
-// host, 56-59 against 86 ns per particle-beam, but costs two 32 x 32-bit high products per move in SSE2 lanes and
-// nothing on the board: the jumps land in floats, as GridRay::land().)
+// On an x86-64 host with AVX2, cast_lanes_from() walks up to 128 rays from one start at once, eight to a register,
+// each lane taking its jump or its step by blends: the same floats as cast_from() (tested; the self-test's digest
+// is the boards'), with the table reads of many rays in flight instead of one ray's chain of them; without AVX2 it
+// casts one ray at a time. (A jump in fixed point, 2^-14 cell, shortened one ray's chain on the host, 56-59 against
+// 86 ns per particle-beam, but costs two 32 x 32-bit high products per move in lanes and saved 2 % on the board:
+// the jumps land in floats, as GridRay::land().)
 //
 // The bound, for a bin whose headings all have cos > 0 (x-dominant, the other three cases by symmetry): a ray from
 // (x0, y0) in [cx, cx + 1] x [cy, cy + 1] reaches column cx + i after a horizontal run of at least i - 1 cells, so
@@ -35,10 +36,10 @@
 // levels not above it, kConeLevels; the same ranges, a few more jumps: 154 KB for the room, 312 KiB for a 200 x 200
 // map at T = 16), plus 8 bytes per heading; the build's scratch: two prefix counts (2 bytes per cell each), a byte
 // per cell and a line of floats.
-// Cost (Intel map, T = 64, host, the beam model through cast_lanes_from() and lane densities): ~30 ns per
-// particle-beam in bench_sensor_models (2.3 jumps and 2.3 exact steps per cast), 40-47 in bench_mcl's workload (4.0
-// jumps and 2.7 steps: longer rays); on the M4F at T = 16 see the README's board table (bench_mcl; ~520 instructions
-// per particle-beam, ~600 packed). Every loop is
+// Cost (Intel map, T = 64, host, the beam model through cast_lanes_from() and lane densities): ~22 ns per
+// particle-beam in bench_sensor_models (2.3 jumps and 2.3 exact steps per cast), 30-34 in bench_mcl's workload (4.0
+// jumps and 2.7 steps: longer rays); on the M4F at T = 16 see the README's board table (bench_mcl; 534 instructions
+// per particle-beam, 607 packed). Every loop is
 // bounded: a jump advances the ray by at least 63/64 cell and a step moves it one cell, so a cast ends within
 // 3 (W + H) + 8 iterations; the accuracy is tested against GridRayCaster (tests/test_cone_ray_caster.cpp).
 // Build: per heading, kDirect + 1 prefix-count reads and a window of bounds per cell, in loops over whole lines;
@@ -48,8 +49,8 @@
 #include "est/map/occupancy_grid.hpp"
 #include "est/map/ray_casting.hpp"
 #include "est/math/fmath.hpp"
-#if defined(__SSE2__)
-#include <emmintrin.h>
+#if defined(__x86_64__)
+#include <immintrin.h>
 #endif
 
 namespace est {
@@ -66,6 +67,13 @@ enum class ConeRayCasterStatus : std::uint8_t {
 };
 
 namespace detail {
+#if defined(__x86_64__)
+// Whether this CPU runs AVX2 (the cone caster's eight-lane walk), asked once.
+inline bool has_avx2() {
+  static const bool yes = __builtin_cpu_supports("avx2");
+  return yes;
+}
+#endif
 struct ConeTables {
   const float* cos_b = nullptr;          // [T] cos of heading b
   const float* sin_b = nullptr;          // [T]
@@ -157,62 +165,100 @@ class BasicConeRayCaster {
     return max_range;
   }
 
-#if defined(__SSE2__)
-  // 4 G casts_from() at once, out[j] its float bit for bit: each ray's set-up as cast_from()'s, then the rays walked
-  // in G groups of four SSE2 lanes, every lane taking its jump or its step by selects (the same integer and float
-  // operations). A round moves every group once: the groups' table reads do not wait on each other, so their cache
-  // misses overlap, where one ray's reads are a chain.
+#if defined(__x86_64__)
+  // 8 G casts_from() at once (G groups of eight), out[i] the float of cast_from(o, dx[i], dy[i], heading_bins[i],
+  // max_range), bit for bit: on a CPU with AVX2 the rays walked in eight lanes a register, each lane taking its jump
+  // or its step by blends (the same float and integer operations), every group moved once a round, so the groups'
+  // table reads are in flight together where one ray's reads are a chain; otherwise one ray at a time.
   template <std::uint32_t G>
   void cast_lanes_from(const Origin& o, const float* dx, const float* dy, const float* heading_bins, float max_range,
                        float* out, std::uint32_t groups = G) const {
-    const std::int32_t w = grid_.width(), h = grid_.height();
-    if (w >= 32768) {  // beyond the lanes' 16-bit index product: one ray at a time
-      for (std::uint32_t i = 0; i < 4 * groups; ++i) out[i] = cast_from(o, dx[i], dy[i], heading_bins[i], max_range);
+    if (groups <= G && grid_.width() < 32768 && lanes_vectorized()) {
+      walk_lanes<G>(o, dx, dy, heading_bins, max_range, out, groups);
       return;
     }
-    Lanes4 g[G];
+    for (std::uint32_t i = 0; i < 8 * groups; ++i) out[i] = cast_from(o, dx[i], dy[i], heading_bins[i], max_range);
+  }
+  // Whether cast_lanes_from() walks in lanes on this CPU (AVX2).
+  static bool lanes_vectorized() { return detail::has_avx2(); }
+#endif
+
+ private:
+#if defined(__x86_64__)
+#define EST_AVX2 __attribute__((target("avx2"), always_inline))
+  using V = __m256;   // eight floats
+  using M = __m256i;  // eight int32, or eight masks (-1 true, 0 false)
+  // Eight rays' walk: their cells, parameters, entries, and what each ray was aimed with.
+  struct Lanes {
+    M ix, iy, e, act, sx, sy, ax, ay;
+    V t, dx, dy, idx, idy, nx, ny, res;
+    const std::uint8_t* q[8];
+    std::uint32_t sh[8];
+  };
+  // What the rays share: their start, the map, the range.
+  struct Walk {
+    M wb, hb, wv;  // w and h biased by 2^31; w for the index's product
+    V gx, gy, fw, fh, tmax, res_cell, mr;
+  };
+  // Float compares as C's (false on NaN) as masks, blends, the cast between the two.
+  EST_AVX2 static M as_m(V v) { return _mm256_castps_si256(v); }
+  EST_AVX2 static V as_v(M m) { return _mm256_castsi256_ps(m); }
+  EST_AVX2 static M lt(V a, V b) { return as_m(_mm256_cmp_ps(a, b, _CMP_LT_OQ)); }
+  EST_AVX2 static M le(V a, V b) { return as_m(_mm256_cmp_ps(a, b, _CMP_LE_OQ)); }
+  EST_AVX2 static M gt(V a, V b) { return as_m(_mm256_cmp_ps(a, b, _CMP_GT_OQ)); }
+  EST_AVX2 static M ge(V a, V b) { return as_m(_mm256_cmp_ps(a, b, _CMP_GE_OQ)); }
+  EST_AVX2 static M both(M a, M b) { return _mm256_and_si256(a, b); }
+  EST_AVX2 static M sel(M m, M a, M b) { return _mm256_blendv_epi8(b, a, m); }
+  EST_AVX2 static V sel(M m, V a, V b) { return _mm256_blendv_ps(b, a, as_v(m)); }
+  EST_AVX2 static int lanes_of(M m) { return _mm256_movemask_ps(as_v(m)); }
+
+  template <std::uint32_t G>
+  __attribute__((target("avx2"))) void walk_lanes(const Origin& o, const float* dx, const float* dy,
+                                                  const float* heading_bins, float max_range, float* out,
+                                                  std::uint32_t groups) const {
+    const std::int32_t w = grid_.width(), h = grid_.height();
+    Lanes g[G];
     const detail::GridRay& r = o.ray;
     // aim()'s refusals for all: no walk from here, or no range.
     const bool walk = o.walk && max_range > 0.0f;
     const std::uint32_t start = walk ? static_cast<std::uint32_t>(r.iy * w + r.ix) : 0u;
-    const __m128 tiny = _mm_set1_ps(1e-9f), mtiny = _mm_set1_ps(-1e-9f), limit = _mm_set1_ps(1.5f);
-    const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-    const __m128i zero = _mm_setzero_si128();
-    std::int32_t active = 0;
+    const V limit = _mm256_set1_ps(1.5f), abs_mask = as_v(_mm256_set1_epi32(0x7fffffff));
+    const V tiny = _mm256_set1_ps(1e-9f), mtiny = _mm256_set1_ps(-1e-9f);
+    const M zero = _mm256_setzero_si256();
+    int active = 0;
     for (std::uint32_t k = 0; k < groups; ++k) {
-      Lanes4& l = g[k];
-      const __m128 vdx = _mm_loadu_ps(dx + 4 * k), vdy = _mm_loadu_ps(dy + 4 * k);
+      Lanes& l = g[k];
+      const V vdx = _mm256_loadu_ps(dx + 8 * k), vdy = _mm256_loadu_ps(dy + 8 * k);
       // Finite with |d| <= 1.5 (NaN and inf fail the compare): aim()'s and cast_from()'s other refusals.
-      __m128i ok = _mm_castps_si128(_mm_and_ps(_mm_cmple_ps(_mm_and_ps(vdx, abs_mask), limit),
-                                               _mm_cmple_ps(_mm_and_ps(vdy, abs_mask), limit)));
+      M ok = both(le(_mm256_and_ps(vdx, abs_mask), limit), le(_mm256_and_ps(vdy, abs_mask), limit));
       if (!walk) ok = zero;
-      // aim(): the steps' signs (a compare's mask is -1), where the next boundary is, the inverse directions.
-      const __m128i gtx = _mm_castps_si128(_mm_cmpgt_ps(vdx, tiny)), ltx = _mm_castps_si128(_mm_cmplt_ps(vdx, mtiny));
-      const __m128i gty = _mm_castps_si128(_mm_cmpgt_ps(vdy, tiny)), lty = _mm_castps_si128(_mm_cmplt_ps(vdy, mtiny));
-      l.sx = _mm_sub_epi32(ltx, gtx);
-      l.sy = _mm_sub_epi32(lty, gty);
-      l.ax = _mm_sub_epi32(zero, gtx);
-      l.ay = _mm_sub_epi32(zero, gty);
-      const __m128 one = _mm_set1_ps(1.0f);
-      l.idx = _mm_and_ps(_mm_castsi128_ps(_mm_or_si128(gtx, ltx)), _mm_div_ps(one, vdx));
-      l.idy = _mm_and_ps(_mm_castsi128_ps(_mm_or_si128(gty, lty)), _mm_div_ps(one, vdy));
-      const __m128 never = _mm_set1_ps(detail::GridRay::kNever), below = _mm_set1_ps(-__builtin_inff());
-      l.nx = sel_ps(_mm_or_si128(gtx, ltx), below, never);
-      l.ny = sel_ps(_mm_or_si128(gty, lty), below, never);
+      // aim(): the steps' signs (a compare's mask is -1), where the next boundary is, the inverse directions; a
+      // crossing never taken (no step on the axis) gets the floor kNever, the others -inf (move()'s max).
+      const M gtx = gt(vdx, tiny), ltx = lt(vdx, mtiny), gty = gt(vdy, tiny), lty = lt(vdy, mtiny);
+      const M stepx = _mm256_or_si256(gtx, ltx), stepy = _mm256_or_si256(gty, lty);
+      l.sx = _mm256_sub_epi32(ltx, gtx);
+      l.sy = _mm256_sub_epi32(lty, gty);
+      l.ax = _mm256_sub_epi32(zero, gtx);
+      l.ay = _mm256_sub_epi32(zero, gty);
+      const V one = _mm256_set1_ps(1.0f);
+      l.idx = _mm256_and_ps(as_v(stepx), _mm256_div_ps(one, vdx));
+      l.idy = _mm256_and_ps(as_v(stepy), _mm256_div_ps(one, vdy));
+      const V never = _mm256_set1_ps(detail::GridRay::kNever), below = _mm256_set1_ps(-__builtin_inff());
+      l.nx = sel(stepx, below, never);
+      l.ny = sel(stepy, below, never);
       l.dx = vdx;
       l.dy = vdy;
       // The heading bin as cast_from() picks it; the table's planes and the start's entries one lane at a time.
-      const __m128 f = _mm_add_ps(_mm_add_ps(_mm_loadu_ps(heading_bins + 4 * k), _mm_set1_ps(0.5f)),
-                                  _mm_set1_ps(1048576.0f));
-      const __m128i in = _mm_castps_si128(_mm_and_ps(_mm_cmpge_ps(f, _mm_setzero_ps()),
-                                                     _mm_cmplt_ps(f, _mm_set1_ps(2097152.0f))));
-      alignas(16) std::uint32_t b0[4];
-      alignas(16) std::int32_t ok0[4], e0[4];
-      _mm_store_si128(reinterpret_cast<__m128i*>(b0),
-                      _mm_and_si128(in, _mm_and_si128(_mm_cvttps_epi32(f), _mm_set1_epi32(static_cast<std::int32_t>(mask_)))));
-      _mm_store_si128(reinterpret_cast<__m128i*>(ok0), ok);
-      for (std::uint32_t j = 0; j < 4; ++j) {
-        const std::uint32_t i = 4 * k + j;
+      const V f = _mm256_add_ps(_mm256_add_ps(_mm256_loadu_ps(heading_bins + 8 * k), _mm256_set1_ps(0.5f)),
+                                _mm256_set1_ps(1048576.0f));
+      const M in = both(ge(f, _mm256_setzero_ps()), lt(f, _mm256_set1_ps(2097152.0f)));
+      alignas(32) std::uint32_t b0[8];
+      alignas(32) std::int32_t ok0[8], e0[8];
+      const M bins = both(_mm256_cvttps_epi32(f), _mm256_set1_epi32(static_cast<std::int32_t>(mask_)));
+      _mm256_store_si256(reinterpret_cast<M*>(b0), both(in, bins));
+      _mm256_store_si256(reinterpret_cast<M*>(ok0), ok);
+      for (std::uint32_t j = 0; j < 8; ++j) {
+        const std::uint32_t i = 8 * k + j;
         std::uint32_t bj = b0[j];
         if (ok0[j] != 0 && !(t_.cos_b[bj] * dx[i] + t_.sin_b[bj] * dy[i] >= t_.min_cos_gap))
           bj = static_cast<std::uint32_t>(fmath::atan2(dy[i], dx[i]) * bins_per_rad_ + 0.5f + 1048576.0f) & mask_;
@@ -220,27 +266,27 @@ class BasicConeRayCaster {
         l.sh[j] = shift(bj);
         e0[j] = static_cast<std::int32_t>(entry(l.q[j], l.sh[j], start));
       }
-      l.e = load(e0);
+      l.e = _mm256_load_si256(reinterpret_cast<const M*>(e0));
       l.act = ok;
-      l.res = _mm_and_ps(_mm_castsi128_ps(ok), _mm_set1_ps(max_range));
-      l.ix = _mm_set1_epi32(r.ix);
-      l.iy = _mm_set1_epi32(r.iy);
-      l.t = _mm_setzero_ps();
-      active |= _mm_movemask_ps(_mm_castsi128_ps(ok));
+      l.res = _mm256_and_ps(as_v(ok), _mm256_set1_ps(max_range));
+      l.ix = _mm256_set1_epi32(r.ix);
+      l.iy = _mm256_set1_epi32(r.iy);
+      l.t = _mm256_setzero_ps();
+      active |= lanes_of(ok);
     }
     if (active != 0) {
       const float t_max = max_range * grid_.inv_resolution();  // aim()'s, the same for every ray
       Walk c;
-      c.fw = _mm_set1_ps(static_cast<float>(w));
-      c.fh = _mm_set1_ps(static_cast<float>(h));
-      c.gx = _mm_set1_ps(r.gx);
-      c.gy = _mm_set1_ps(r.gy);
-      c.tmax = _mm_set1_ps(t_max);
-      c.wb = _mm_set1_epi32(w ^ INT32_MIN);
-      c.hb = _mm_set1_epi32(h ^ INT32_MIN);
-      c.wv = _mm_set1_epi32(w);
-      c.res_cell = _mm_set1_ps(grid_.resolution());
-      c.mr = _mm_set1_ps(max_range);
+      c.fw = _mm256_set1_ps(static_cast<float>(w));
+      c.fh = _mm256_set1_ps(static_cast<float>(h));
+      c.gx = _mm256_set1_ps(r.gx);
+      c.gy = _mm256_set1_ps(r.gy);
+      c.tmax = _mm256_set1_ps(t_max);
+      c.wb = _mm256_set1_epi32(w ^ INT32_MIN);
+      c.hb = _mm256_set1_epi32(h ^ INT32_MIN);
+      c.wv = _mm256_set1_epi32(w);
+      c.res_cell = _mm256_set1_ps(grid_.resolution());
+      c.mr = _mm256_set1_ps(max_range);
       const std::int32_t bound = 3 * (w + h) + 8;
       for (std::int32_t n = 0; n < bound; ++n) {
         bool any = false;
@@ -248,96 +294,77 @@ class BasicConeRayCaster {
         if (!any) break;
       }
     }
-    for (std::uint32_t k = 0; k < groups; ++k) _mm_storeu_ps(out + 4 * k, g[k].res);
+    for (std::uint32_t k = 0; k < groups; ++k) _mm256_storeu_ps(out + 8 * k, g[k].res);
   }
-#endif
 
- private:
-#if defined(__SSE2__)
-  // Four rays' walk: their cells, fixed-point and float parameters, entries and what each ray was aimed with.
-  struct Lanes4 {
-    __m128i ix, iy, e, act, sx, sy, ax, ay;
-    __m128 t, dx, dy, idx, idy, nx, ny, res;
-    const std::uint8_t* q[4];
-    std::uint32_t sh[4];
-  };
-  // What the rays share: their start, the map, the range.
-  struct Walk {
-    __m128i wb, hb, wv;  // w and h biased by 2^31; w for the index's product
-    __m128 gx, gy, fw, fh, tmax, res_cell, mr;
-  };
-  static __m128i load(const std::int32_t* p) { return _mm_load_si128(reinterpret_cast<const __m128i*>(p)); }
-  // One move of each active lane of l (cast_from()'s loop body); false when none was active.
-  static bool move(Lanes4& l, const Walk& c) {
-    __m128i act = l.act;
-    if (_mm_movemask_ps(_mm_castsi128_ps(act)) == 0) return false;
-    const __m128i e = l.e, ix = l.ix, iy = l.iy;
-    const __m128i jump = _mm_cmpgt_epi32(e, _mm_set1_epi32(1));
+  // One move of each walked lane of l (cast_from()'s loop body); false when none was walked.
+  __attribute__((target("avx2"))) static bool move(Lanes& l, const Walk& c) {
+    M act = l.act;
+    const int walked = lanes_of(act);
+    if (walked == 0) return false;
+    const M e = l.e, ix = l.ix, iy = l.iy;
+    const M jump = _mm256_cmpgt_epi32(e, _mm256_set1_epi32(1));
     // The jump: t + e - 1 - 1/64 cells, landed as GridRay::land() (its clamp to the last cell cannot act: p < w
     // truncates below w).
-    auto jumps = [&](__m128i& jx, __m128i& jy, __m128& tj) {
-      tj = _mm_add_ps(l.t, _mm_sub_ps(_mm_cvtepi32_ps(e), _mm_set1_ps(1.0f + 1.0f / 64.0f)));
-      const __m128 px = _mm_add_ps(c.gx, _mm_mul_ps(tj, l.dx));
-      const __m128 py = _mm_add_ps(c.gy, _mm_mul_ps(tj, l.dy));
-      const __m128 zf = _mm_setzero_ps();
-      jx = _mm_cvttps_epi32(px);
-      jy = _mm_cvttps_epi32(py);
-      return _mm_castps_si128(
-          _mm_and_ps(_mm_and_ps(_mm_cmplt_ps(tj, c.tmax), _mm_and_ps(_mm_cmpge_ps(px, zf), _mm_cmpge_ps(py, zf))),
-                     _mm_and_ps(_mm_cmplt_ps(px, c.fw), _mm_cmplt_ps(py, c.fh))));
+    auto jumps = [&](M& jx, M& jy, V& tj) EST_AVX2 {
+      tj = _mm256_add_ps(l.t, _mm256_sub_ps(_mm256_cvtepi32_ps(e), _mm256_set1_ps(1.0f + 1.0f / 64.0f)));
+      const V px = _mm256_add_ps(c.gx, _mm256_mul_ps(tj, l.dx));
+      const V py = _mm256_add_ps(c.gy, _mm256_mul_ps(tj, l.dy));
+      const V zf = _mm256_setzero_ps();
+      jx = _mm256_cvttps_epi32(px);
+      jy = _mm256_cvttps_epi32(py);
+      return both(both(lt(tj, c.tmax), both(ge(px, zf), ge(py, zf))), both(lt(px, c.fw), lt(py, c.fh)));
     };
-    // The step: GridRay::step(). A crossing never taken (no step on that axis: inverse 0) is raised to kNever by a
-    // max with the lane's floor (kNever there, -inf elsewhere); min(tx, ty) is tx < ty ? tx : ty.
-    auto steps = [&](__m128i& sx, __m128i& sy, __m128& ts) {
-      const __m128 tx = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(_mm_cvtepi32_ps(_mm_add_epi32(ix, l.ax)), c.gx), l.idx), l.nx);
-      const __m128 ty = _mm_max_ps(_mm_mul_ps(_mm_sub_ps(_mm_cvtepi32_ps(_mm_add_epi32(iy, l.ay)), c.gy), l.idy), l.ny);
-      const __m128i xs = _mm_castps_si128(_mm_cmplt_ps(tx, ty));
-      sx = _mm_add_epi32(ix, _mm_and_si128(xs, l.sx));
-      sy = _mm_add_epi32(iy, _mm_andnot_si128(xs, l.sy));
-      ts = _mm_min_ps(tx, ty);
+    // The step: GridRay::step(). A crossing never taken (inverse 0) is raised to kNever by the max with the lane's
+    // floor; min(tx, ty) is tx < ty ? tx : ty.
+    auto steps = [&](M& sx, M& sy, V& ts) EST_AVX2 {
+      const V tx = _mm256_max_ps(
+          _mm256_mul_ps(_mm256_sub_ps(_mm256_cvtepi32_ps(_mm256_add_epi32(ix, l.ax)), c.gx), l.idx), l.nx);
+      const V ty = _mm256_max_ps(
+          _mm256_mul_ps(_mm256_sub_ps(_mm256_cvtepi32_ps(_mm256_add_epi32(iy, l.ay)), c.gy), l.idy), l.ny);
+      const M xs = lt(tx, ty);
+      sx = _mm256_add_epi32(ix, both(xs, l.sx));
+      sy = _mm256_add_epi32(iy, _mm256_andnot_si256(xs, l.sy));
+      ts = _mm256_min_ps(tx, ty);
       // 0 <= i < w as one signed compare of both biased by 2^31.
-      const __m128i bias = _mm_set1_epi32(INT32_MIN);
-      return _mm_and_si128(
-          _mm_castps_si128(_mm_cmplt_ps(ts, c.tmax)),
-          _mm_and_si128(_mm_cmpgt_epi32(c.wb, _mm_xor_si128(sx, bias)), _mm_cmpgt_epi32(c.hb, _mm_xor_si128(sy, bias))));
+      const M bias = _mm256_set1_epi32(INT32_MIN);
+      return both(lt(ts, c.tmax), both(_mm256_cmpgt_epi32(c.wb, _mm256_xor_si256(sx, bias)),
+                                       _mm256_cmpgt_epi32(c.hb, _mm256_xor_si256(sy, bias))));
     };
     // Each lane's move; a lane that leaves keeps max_range and stops. A lane no longer walked may hold any cell: its
     // read is of cell 0. When every walked lane jumps, or every one steps, the other move is not computed.
-    const int walked = _mm_movemask_ps(_mm_castsi128_ps(act));
-    const int jumping = _mm_movemask_ps(_mm_castsi128_ps(jump)) & walked;
-    __m128i nix, niy;
-    __m128 t;
+    const int jumping = lanes_of(jump) & walked;
+    M nix, niy;
+    V t;
     if (jumping == walked) {
-      act = _mm_and_si128(act, jumps(nix, niy, t));
+      act = both(act, jumps(nix, niy, t));
     } else if (jumping == 0) {
-      act = _mm_and_si128(act, steps(nix, niy, t));
+      act = both(act, steps(nix, niy, t));
     } else {
-      __m128i jx, jy, sx, sy;
-      __m128 tj, ts;
-      const __m128i okj = jumps(jx, jy, tj), oks = steps(sx, sy, ts);
-      act = _mm_and_si128(act, sel(jump, okj, oks));
+      M jx, jy, sx, sy;
+      V tj, ts;
+      const M okj = jumps(jx, jy, tj), oks = steps(sx, sy, ts);
+      act = both(act, sel(jump, okj, oks));
       nix = sel(jump, jx, sx);
       niy = sel(jump, jy, sy);
-      t = sel_ps(jump, tj, ts);
+      t = sel(jump, tj, ts);
     }
     l.ix = nix;
     l.iy = niy;
     l.t = t;
-    // The cell's index iy w + ix: iy < 2^15 and w < 2^15 (cast_lanes_from() checks w), so one 16 x 16-bit product.
-    alignas(16) std::uint32_t i[4];
-    _mm_store_si128(reinterpret_cast<__m128i*>(i), _mm_and_si128(act, _mm_add_epi32(_mm_madd_epi16(niy, c.wv), nix)));
-    const __m128i ne = _mm_setr_epi32(static_cast<std::int32_t>(entry(l.q[0], l.sh[0], i[0])),
-                                      static_cast<std::int32_t>(entry(l.q[1], l.sh[1], i[1])),
-                                      static_cast<std::int32_t>(entry(l.q[2], l.sh[2], i[2])),
-                                      static_cast<std::int32_t>(entry(l.q[3], l.sh[3], i[3])));
+    // The cell's index iy w + ix: iy < 2^15 and w < 2^15 (cast_lanes_from() checks w), so one 16 x 16-bit product;
+    // the eight reads one lane at a time.
+    alignas(32) std::uint32_t i[8];
+    _mm256_store_si256(reinterpret_cast<M*>(i), both(act, _mm256_add_epi32(_mm256_madd_epi16(niy, c.wv), nix)));
+    auto read = [&](std::uint32_t j) { return static_cast<std::int32_t>(entry(l.q[j], l.sh[j], i[j])); };
+    const M ne = _mm256_setr_epi32(read(0), read(1), read(2), read(3), read(4), read(5), read(6), read(7));
     l.e = ne;
-    const __m128i hit = _mm_and_si128(act, _mm_cmpeq_epi32(ne, _mm_setzero_si128()));
-    l.res = sel_ps(hit, _mm_min_ps(_mm_mul_ps(t, c.res_cell), c.mr), l.res);  // cells_to_range()
-    l.act = _mm_andnot_si128(hit, act);
+    const M hit = both(act, _mm256_cmpeq_epi32(ne, _mm256_setzero_si256()));
+    l.res = sel(hit, _mm256_min_ps(_mm256_mul_ps(t, c.res_cell), c.mr), l.res);  // cells_to_range()
+    l.act = _mm256_andnot_si256(hit, act);
     return true;
   }
-  static __m128i sel(__m128i m, __m128i a, __m128i b) { return _mm_or_si128(_mm_and_si128(m, a), _mm_andnot_si128(m, b)); }
-  static __m128 sel_ps(__m128i m, __m128 a, __m128 b) { return _mm_castsi128_ps(sel(m, _mm_castps_si128(a), _mm_castps_si128(b))); }
+#undef EST_AVX2
 #endif
 
   // Heading b's plane of the table, and the place of its half in a packed byte.

@@ -141,9 +141,10 @@ class BeamRangeFinderModel {
   void densities(const Reading* r, const float* z_exp, float* out, std::int32_t n) const {
     std::int32_t k = 0;
 #if !defined(__arm__)
-    for (; k + static_cast<std::int32_t>(lanes::kLanes) <= n; k += static_cast<std::int32_t>(lanes::kLanes))
+    constexpr std::int32_t kL = static_cast<std::int32_t>(lanes::kLanes);
+    for (; k + kL <= n; k += kL)
       if (!densities_lanes(r + k, z_exp + k, out + k))
-        for (std::int32_t j = k; j < k + static_cast<std::int32_t>(lanes::kLanes); ++j) out[j] = density(r[j], z_exp[j]);
+        for (std::int32_t j = k; j < k + kL; ++j) out[j] = density(r[j], z_exp[j]);
 #endif
     for (; k < n; ++k) out[k] = density(r[k], z_exp[k]);
   }

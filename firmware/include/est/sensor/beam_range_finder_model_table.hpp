@@ -84,9 +84,9 @@ class BeamBearingsStorage final : public BeamBearingsBuffer {
 namespace detail {
 // Casters that walk four rays at once on this target (cast4_from(): ConeRayCaster on SSE2).
 template <class C, class = void>
-struct casts_four : std::false_type {};
+struct casts_lanes : std::false_type {};
 template <class C>
-struct casts_four<C, std::void_t<decltype(&C::template cast_lanes_from<1>)>> : std::true_type {};
+struct casts_lanes<C, std::void_t<decltype(&C::template cast_lanes_from<1>)>> : std::true_type {};
 }  // namespace detail
 
 // log p(z | x, m) of table 6.1 with z* from the heading table. Returns K * kBeamLogDensityFloor when the model is not
@@ -138,25 +138,26 @@ inline float beam_range_finder_model_over_bins(const ScanBeams& z, const BeamBea
   const typename BinCaster::Origin o = caster.origin(f.x, f.y);
   LogProduct q;
 #if !defined(__arm__)
-  // The host casts a chunk of beams first (a caster with cast_lanes_from(), the cone caster, walks them 16 at a time
-  // in SSE2 lanes), then takes their densities kLanes at a time, each the float of the loop below, and multiplies
-  // them in beam order: the boards' product, bit for bit (the self-test's beam_table and beam_cone digests).
+  // The host casts a chunk of beams first (a caster with cast_lanes_from(), the cone caster, walks them together in
+  // AVX2 lanes where the CPU has them), then takes their densities kLanes at a time, each the float of the loop
+  // below, and multiplies them in beam order: the boards' product, bit for bit (the self-test's beam_table and
+  // beam_cone digests).
   constexpr std::int32_t kChunk = 64;
   float z_exp[kChunk], d[kChunk];
   for (std::int32_t k0 = 0; k0 < z.count; k0 += kChunk) {
     const std::int32_t m = z.count - k0 < kChunk ? z.count - k0 : kChunk;
-    if constexpr (detail::casts_four<BinCaster>::value) {
-      // All the chunk's rays at once, four to a group; the last group padded with refused rays (a NaN direction: no
-      // walk, its range unused).
+    if constexpr (detail::casts_lanes<BinCaster>::value) {
+      // All the chunk's rays at once, eight to a group; the last group padded with refused rays (a NaN direction:
+      // no walk, its range unused).
       float dxs[kChunk], dys[kChunk], hb[kChunk];
-      const std::int32_t padded = (m + 3) & ~3;
+      const std::int32_t padded = (m + 7) & ~7;
       for (std::int32_t j = 0; j < padded; ++j) {
         const std::int32_t k = k0 + (j < m ? j : 0);
         dxs[j] = j < m ? f.c * z.ux[k] - f.s * z.uy[k] : __builtin_nanf("");
         dys[j] = f.s * z.ux[k] + f.c * z.uy[k];
         hb[j] = heading_bins + bearings.bins_of_beam[k];
       }
-      caster.template cast_lanes_from<kChunk / 4>(o, dxs, dys, hb, zm, z_exp, static_cast<std::uint32_t>(padded / 4));
+      caster.template cast_lanes_from<kChunk / 8>(o, dxs, dys, hb, zm, z_exp, static_cast<std::uint32_t>(padded / 8));
     } else {
       for (std::int32_t j = 0; j < m; ++j) {
         const std::int32_t k = k0 + j;
