@@ -6,12 +6,13 @@
 #include "est/sensor/beam_readings.hpp"
 #include "est/sensor/range_scan.hpp"
 #include "est/util/digest.hpp"
+#include "beam_room.hpp"
 #include "selftest.hpp"
 
 namespace est::selftest {
 namespace {
 
-// 6.4 m x 4.8 m at 0.1 m with a partition, a desk and a pillar; 16 headings, in bytes and packed (48 + 24 KiB).
+// The beam sections' room (beam_room.hpp) with a pillar; 16 headings, in bytes and packed (48 + 24 KiB).
 OccupancyGridStorage<64, 48> g_room;
 ConeRayCasterStorage<16, 64, 48> g_cone;
 ConeRayCasterStorage<16, 64, 48, 4> g_packed;
@@ -27,13 +28,7 @@ BeamReadingsStorage<71> g_readings;
 std::uint64_t section_beam_cone() {
   Digest d;
   Rng rng(20261207u);
-  g_room.configure(64, 48, 0.1f, -0.5f, -0.3f, kFreeCell);
-  g_room.fill_rect(0, 0, 63, 0, kOccupiedCell);
-  g_room.fill_rect(0, 47, 63, 47, kOccupiedCell);
-  g_room.fill_rect(0, 0, 0, 47, kOccupiedCell);
-  g_room.fill_rect(63, 0, 63, 47, kOccupiedCell);
-  g_room.fill_rect(40, 0, 40, 30, kOccupiedCell);
-  g_room.fill_rect(10, 10, 18, 13, kOccupiedCell);
+  furnish_beam_room(g_room);
   g_room.fill_rect(50, 38, 51, 39, kOccupiedCell);
   const OccupancyGrid grid = g_room.grid();
   d.add_u32(static_cast<std::uint32_t>(g_cone.build(grid, 16)));
@@ -48,23 +43,10 @@ std::uint64_t section_beam_cone() {
     d.add(packed.cast(x, y, c, s, 6.0f));
   }
 
-  const GridRayCaster exact(grid);
   const Pose2 truth{1.7f, 2.9f, 0.4f};
-  const ScanLayout layout{-kPi, kTwoPi / 71.0f, 71, 0.02f, 6.0f};
-  float ranges[71];
-  for (int k = 0; k < 71; ++k) {
-    float s = 0.0f, c = 0.0f;
-    fmath::sincos(truth.theta + layout.angle_min + static_cast<float>(k) * layout.angle_increment, s, c);
-    ranges[k] = exact.cast(truth.x, truth.y, c, s, 6.0f) + rng.uniform(-0.03f, 0.03f);
-  }
-  ranges[9] = 7.0f;   // a max reading
-  ranges[30] = 0.3f;  // a short one
-  g_scan.prepare(layout, ranges, 1);
+  beam_room_scan(grid, truth, rng, g_scan);
   const ScanBeams b = g_scan.beams();
-  BeamRangeFinderModel beam;
-  BeamModelParams bp;
-  bp.range_max = 6.0f;
-  beam.configure(bp);
+  const BeamRangeFinderModel beam = beam_room_model();
   d.add_u32(g_bearings.prepare(b, cone.bins()) ? 1u : 0u);
   d.add_u32(g_readings.prepare(b, beam) ? 1u : 0u);
   for (int i = 0; i < 32; ++i) {

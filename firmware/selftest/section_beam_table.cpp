@@ -8,6 +8,7 @@
 #include "est/sensor/beam_readings.hpp"
 #include "est/sensor/range_scan.hpp"
 #include "est/util/digest.hpp"
+#include "beam_room.hpp"
 #include "selftest.hpp"
 
 namespace est::selftest {
@@ -37,13 +38,7 @@ std::uint64_t section_beam_table() {
     if (i % 50 == 49) d.add(q.log());
   }
 
-  g_room.configure(64, 48, 0.1f, -0.5f, -0.3f, kFreeCell);
-  g_room.fill_rect(0, 0, 63, 0, kOccupiedCell);
-  g_room.fill_rect(0, 47, 63, 47, kOccupiedCell);
-  g_room.fill_rect(0, 0, 0, 47, kOccupiedCell);
-  g_room.fill_rect(63, 0, 63, 47, kOccupiedCell);
-  g_room.fill_rect(40, 0, 40, 30, kOccupiedCell);
-  g_room.fill_rect(10, 10, 18, 13, kOccupiedCell);
+  furnish_beam_room(g_room);
   const OccupancyGrid grid = g_room.grid();
   const GridRayCaster exact(grid);
   d.add_u32(static_cast<std::uint32_t>(g_table.build(grid, exact, 16, 6.0f)));
@@ -51,21 +46,9 @@ std::uint64_t section_beam_table() {
   for (std::uint32_t i = 0; i < HeadingRangeTableStorage<64, 48, 16>::kEntries; i += 13u) d.add_u32(table.data()[i]);
 
   const Pose2 truth{1.7f, 2.9f, 0.4f};
-  const ScanLayout layout{-kPi, kTwoPi / 72.0f, 72, 0.02f, 6.0f};
-  float ranges[72];
-  for (int k = 0; k < 72; ++k) {
-    float s = 0.0f, c = 0.0f;
-    fmath::sincos(truth.theta + layout.angle_min + static_cast<float>(k) * layout.angle_increment, s, c);
-    ranges[k] = exact.cast(truth.x, truth.y, c, s, 6.0f) + rng.uniform(-0.03f, 0.03f);
-  }
-  ranges[9] = 7.0f;  // a max reading
-  ranges[30] = 0.3f;  // a short one
-  g_scan72.prepare(layout, ranges, 1);
+  beam_room_scan(grid, truth, rng, g_scan72);
   const ScanBeams b = g_scan72.beams();
-  BeamRangeFinderModel beam;
-  BeamModelParams bp;
-  bp.range_max = 6.0f;
-  beam.configure(bp);
+  const BeamRangeFinderModel beam = beam_room_model();
   d.add_u32(g_bearings.prepare(b, table) ? 1u : 0u);
   d.add_u32(g_readings.prepare(b, beam) ? 1u : 0u);
   const BeamReadings readings = g_readings.view();

@@ -327,35 +327,25 @@ void BM_weight_beam(benchmark::State& state) {
   set_items(state, static_cast<std::int64_t>(n) * z.count);
 }
 
-// z* from the heading lookup table; bearings and readings prepared once per scan, the beams' densities multiplied
+// z* by a caster over heading bins, bearings and readings prepared once per scan, the beams' densities multiplied
 // and taken to log space once per particle (est/sensor/beam_range_finder_model_table.hpp).
-void BM_weight_beam_table(benchmark::State& state) {
+template <class BinCaster>
+void weight_beam_bins(benchmark::State& state, const BinCaster& caster) {
   const auto n = static_cast<std::uint32_t>(state.range(0));
   const est::ScanBeams z = scan(state.range(1));
   const est::BeamBearings bearings = g_bearings.at(state.range(1))->view();
   const est::BeamReadings readings = g_readings.at(state.range(1))->view();
   Mcl& mcl = cloud(n);
-  const est::HeadingRangeTable table = g_table.view();
   for (auto _ : state)
     mcl.correct(
-        [&](const est::Pose2& x) { return est::beam_range_finder_model(z, bearings, readings, x, {}, table, g_beam); });
+        [&](const est::Pose2& x) { return est::beam_range_finder_model(z, bearings, readings, x, {}, caster, g_beam); });
   set_items(state, static_cast<std::int64_t>(n) * z.count);
 }
-
-// z* cast exactly by the cone caster (the same floats as the exact traversal); bearings and readings as the table's
-// (est/sensor/beam_range_finder_model_cone.hpp; on this host 16 rays walked at once in SSE2 lanes).
-void BM_weight_beam_cone(benchmark::State& state) {
-  const auto n = static_cast<std::uint32_t>(state.range(0));
-  const est::ScanBeams z = scan(state.range(1));
-  const est::BeamBearings bearings = g_bearings.at(state.range(1))->view();
-  const est::BeamReadings readings = g_readings.at(state.range(1))->view();
-  Mcl& mcl = cloud(n);
-  const est::ConeRayCaster cone = g_cone.view();
-  for (auto _ : state)
-    mcl.correct(
-        [&](const est::Pose2& x) { return est::beam_range_finder_model(z, bearings, readings, x, {}, cone, g_beam); });
-  set_items(state, static_cast<std::int64_t>(n) * z.count);
-}
+// z* from the heading lookup table (approximate).
+void BM_weight_beam_table(benchmark::State& state) { weight_beam_bins(state, g_table.view()); }
+// z* cast exactly by the cone caster (the same floats as the exact traversal; on an AVX2 host a particle's rays are
+// walked together in lanes, est/map/cone_ray_caster.hpp).
+void BM_weight_beam_cone(benchmark::State& state) { weight_beam_bins(state, g_cone.view()); }
 
 void BM_resample(benchmark::State& state) {
   const auto n = static_cast<std::uint32_t>(state.range(0));
