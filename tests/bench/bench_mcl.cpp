@@ -482,8 +482,9 @@ void print_machine() {
     if (line.rfind("processor", 0) == 0) ++cpus;
   }
   std::printf("machine: %s, %d logical CPUs (one used), compiler %s, -O3 -ffp-contract=off, x86-64 baseline (SSE2;\n"
-              "  the particle loops four lanes wide, est/math/lanes.hpp)\n",
-              model.c_str(), cpus, __VERSION__);
+              "  the particle loops four lanes wide, est/math/lanes.hpp); AVX2 %s (the cone caster's rays %s)\n",
+              model.c_str(), cpus, __VERSION__, est::ConeRayCaster::lanes_vectorized() ? "yes" : "no",
+              est::ConeRayCaster::lanes_vectorized() ? "eight lanes wide" : "one at a time");
 }
 
 // Keeps every run's CPU time per item (ns) for the summary; with --benchmark_repetitions the median of the

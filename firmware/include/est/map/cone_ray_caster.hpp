@@ -68,11 +68,8 @@ enum class ConeRayCasterStatus : std::uint8_t {
 
 namespace detail {
 #if defined(__x86_64__)
-// Whether this CPU runs AVX2 (the cone caster's eight-lane walk), asked once.
-inline bool has_avx2() {
-  static const bool yes = __builtin_cpu_supports("avx2");
-  return yes;
-}
+// Whether this CPU runs AVX2 (the cone caster's eight-lane walk): a bit libgcc's start-up read from cpuid.
+inline bool has_avx2() { return __builtin_cpu_supports("avx2"); }
 #endif
 struct ConeTables {
   const float* cos_b = nullptr;          // [T] cos of heading b
