@@ -11,10 +11,10 @@
 // cell it takes one exact step of the traversal instead. The traversal's crossings are computed from the cell index
 // and the ray's start (GridRay::step()), as after a jump of DistanceTransformRayCaster, so the range returned is
 // GridRayCaster's float, except where a jump lands within rounding of a cell corner.
-// On an x86-64 host with AVX2, cast_lanes_from() walks up to 128 rays from one start at once, eight to a register,
-// each lane taking its jump or its step by blends: the same floats as cast_from() (tested; the self-test's digest
-// is the boards'), with the table reads of many rays in flight instead of one ray's chain of them; without AVX2 it
-// casts one ray at a time. (A jump in fixed point, 2^-14 cell, shortened one ray's chain on the host, 56-59 against
+// On an x86-64 host with AVX2, cast_lanes_from() walks 8 G rays from one start at once (the beam model: 64), eight
+// to a register, each lane taking its jump or its step by blends: the same floats as cast_from() (tested; the
+// self-test's digest is the boards'), with the table reads of many rays in flight instead of one ray's chain of
+// them; without AVX2 it casts one ray at a time. (A jump in fixed point, 2^-14 cell, shortened one ray's chain on the host, 56-59 against
 // 86 ns per particle-beam, but costs two 32 x 32-bit high products per move in lanes and saved 2 % on the board:
 // the jumps land in floats, as GridRay::land().)
 //
