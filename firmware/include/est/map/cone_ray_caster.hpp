@@ -170,7 +170,7 @@ class BasicConeRayCaster {
   template <std::uint32_t G>
   void cast_lanes_from(const Origin& o, const float* dx, const float* dy, const float* heading_bins, float max_range,
                        float* out, std::uint32_t groups = G) const {
-    if (groups <= G && grid_.width() < 32768 && lanes_vectorized()) {
+    if (groups <= G && grid_.width() < 32768 && grid_.height() < 32768 && lanes_vectorized()) {
       walk_lanes<G>(o, dx, dy, heading_bins, max_range, out, groups);
       return;
     }
@@ -349,7 +349,7 @@ class BasicConeRayCaster {
     l.ix = nix;
     l.iy = niy;
     l.t = t;
-    // The cell's index iy w + ix: iy < 2^15 and w < 2^15 (cast_lanes_from() checks w), so one 16 x 16-bit product;
+    // The cell's index iy w + ix: iy < h < 2^15 and w < 2^15 (cast_lanes_from() checks), so one 16 x 16-bit product;
     // the eight reads one lane at a time.
     alignas(32) std::uint32_t i[8];
     _mm256_store_si256(reinterpret_cast<M*>(i), both(act, _mm256_add_epi32(_mm256_madd_epi16(niy, c.wv), nix)));
