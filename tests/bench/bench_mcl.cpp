@@ -336,9 +336,10 @@ void weight_beam_bins(benchmark::State& state, const BinCaster& caster) {
   const est::BeamBearings bearings = g_bearings.at(state.range(1))->view();
   const est::BeamReadings readings = g_readings.at(state.range(1))->view();
   Mcl& mcl = cloud(n);
-  for (auto _ : state)
-    mcl.correct(
-        [&](const est::Pose2& x) { return est::beam_range_finder_model(z, bearings, readings, x, {}, caster, g_beam); });
+  auto weigh = [&](const est::Pose2& x) {
+    return est::beam_range_finder_model(z, bearings, readings, x, {}, caster, g_beam);
+  };
+  for (auto _ : state) mcl.correct(weigh);
   set_items(state, static_cast<std::int64_t>(n) * z.count);
 }
 // z* from the heading lookup table (approximate).
@@ -557,8 +558,8 @@ void summary(const Collector& c) {
                   get(c, "BM_predict_diff_drive_batch/" + ns),
                   get(c, "BM_predict_bicycle/" + ns), get(c, "BM_predict_diff_drive/" + ns),
                   get(c, "BM_weight_likelihood_field/" + nk), get(c, "BM_weight_likelihood_field_scalar/" + nk),
-                  get(c, "BM_weight_beam/" + nk), get(c, "BM_weight_beam_cone/" + nk), get(c, "BM_weight_beam_table/" + nk),
-                  get(c, "BM_resample/" + ns));
+                  get(c, "BM_weight_beam/" + nk), get(c, "BM_weight_beam_cone/" + nk),
+                  get(c, "BM_weight_beam_table/" + nk), get(c, "BM_resample/" + ns));
     }
   const std::string n_hi = std::to_string(g_ns.back()), k_hi = std::to_string(g_ks.back());
   const std::string steady = n_hi + "/" + k_hi;
@@ -599,8 +600,8 @@ void summary(const Collector& c) {
       static_cast<double>(est::HeadingRangeTableStorage<888, 848, kTableBins>::kBytes) / 1048576.0, g_table_build_ms,
       e.rays, static_cast<double>(kRangeMax), e.mean, e.p50, e.p90, e.p99, e.max, 100.0 * e.within_10cm,
       100.0 * e.within_sigma);
-  std::printf("  ray cast alone over the same rays: exact %.0f ns, distance transform %.0f ns, table %.1f ns (atan2 path), "
-              "cone %.0f ns (one ray at a time, an atan2 each)\n",
+  std::printf("  ray cast alone over the same rays: exact %.0f ns, distance transform %.0f ns, table %.1f ns (atan2 "
+              "path), cone %.0f ns (one ray at a time, an atan2 each)\n",
               e.exact_ns, e.dt_ns, e.table_ns, e.cone_ns);
   const double s_lf = spread(c, "BM_weight_likelihood_field", true), s_beam = spread(c, "BM_weight_beam_cone", true);
   const double s_pred = spread(c, "BM_predict_bicycle_batch", false), s_rs = spread(c, "BM_resample", false);
@@ -612,8 +613,8 @@ void summary(const Collector& c) {
   std::printf("stage                               | Beluga 2.1.1 | MRPT 2.5.8 | this build\n");
   std::printf("(this build: worst over N and K)\n");
   std::printf("likelihood field, ns/particle-beam  | ~5           | ~20        | %.2f\n", lf);
-  std::printf("beam / ray tracing, ns/particle-beam | ~360         | ~230       | %.1f (exact cone), %.1f (table), %.1f "
-              "(exact DT)\n", cone, beam, beam_dt);
+  std::printf("beam / ray tracing, ns/particle-beam | ~360         | ~230       | %.1f (exact cone), %.1f (table), "
+              "%.1f (exact DT)\n", cone, beam, beam_dt);
   std::printf(
       "motion sampling, ns/particle        | ~128         | ~165       | %.1f (bicycle), %.1f (diff drive)"
       " batched\n",

@@ -14,9 +14,9 @@
 // On an x86-64 host with AVX2, cast_lanes_from() walks 8 G rays from one start at once (the beam model: 64), eight
 // to a register, each lane taking its jump or its step by blends: the same floats as cast_from() (tested; the
 // self-test's digest is the boards'), with the table reads of many rays in flight instead of one ray's chain of
-// them; without AVX2 it casts one ray at a time. (A jump in fixed point, 2^-14 cell, shortened one ray's chain on the host, 56-59 against
-// 86 ns per particle-beam, but costs two 32 x 32-bit high products per move in lanes and saved 2 % on the board:
-// the jumps land in floats, as GridRay::land().)
+// them; without AVX2 it casts one ray at a time. (A jump in fixed point, 2^-14 cell, shortened one ray's chain on
+// the host, 56-59 against 86 ns per particle-beam, but costs two 32 x 32-bit high products per move in lanes and
+// saved 2 % on the board: the jumps land in floats, as GridRay::land().)
 //
 // The bound, for a bin whose headings all have cos > 0 (x-dominant, the other three cases by symmetry): a ray from
 // (x0, y0) in [cx, cx + 1] x [cy, cy + 1] reaches column cx + i after a horizontal run of at least i - 1 cells, so
@@ -39,9 +39,9 @@
 // Cost (Intel map, T = 64, host, the beam model through cast_lanes_from() and lane densities): ~22 ns per
 // particle-beam in bench_sensor_models (2.3 jumps and 2.3 exact steps per cast), 30-34 in bench_mcl's workload (4.0
 // jumps and 2.7 steps: longer rays); on the M4F at T = 16 see the README's board table (bench_mcl; 534 instructions
-// per particle-beam, 607 packed). Every loop is
-// bounded: a jump advances the ray by at least 63/64 cell and a step moves it one cell, so a cast ends within
-// 3 (W + H) + 8 iterations; the accuracy is tested against GridRayCaster (tests/test_cone_ray_caster.cpp).
+// per particle-beam, 607 packed). Every loop is bounded: a jump advances the ray by at least 63/64 cell and a step
+// moves it one cell, so a cast ends within 3 (W + H) + 8 iterations; the accuracy is tested against GridRayCaster
+// (tests/test_cone_ray_caster.cpp).
 // Build: per heading, kDirect + 1 prefix-count reads and a window of bounds per cell, in loops over whole lines;
 // ~0.45 s for the Intel map at T = 64 on the host, meant for start-up or the host.
 #include <cstdint>
@@ -110,7 +110,6 @@ class BasicConeRayCaster {
     const std::uint32_t i = static_cast<std::uint32_t>(cy * grid_.width() + cx), ub = static_cast<std::uint32_t>(b);
     return static_cast<std::int32_t>(entry(plane(ub), shift(ub), i)) - 1;
   }
-  static constexpr bool packed() { return Packed; }
 
   // A start shared by many rays (the beam model's sensor position): its cell, found once, and whether rays from it
   // are walked at all (inside the map, not in an occupied cell: otherwise every cast from it returns 0).
@@ -135,9 +134,8 @@ class BasicConeRayCaster {
     if (!r.aim(grid_, dx, dy, max_range)) return 0.0f;
     if (!(fmath::abs(dx) <= 1.5f && fmath::abs(dy) <= 1.5f)) return 0.0f;  // not a unit vector: refused
     const float f = heading_bins + 0.5f + 1048576.0f;
-    std::uint32_t b = (f >= 0.0f && f < 2097152.0f) ? static_cast<std::uint32_t>(f) & mask_ : 0u;
-    if (!(t_.cos_b[b] * dx + t_.sin_b[b] * dy >= t_.min_cos_gap))
-      b = static_cast<std::uint32_t>(fmath::atan2(dy, dx) * bins_per_rad_ + 0.5f + 1048576.0f) & mask_;
+    const std::uint32_t b = trusted_bin((f >= 0.0f && f < 2097152.0f) ? static_cast<std::uint32_t>(f) & mask_ : 0u,
+                                        dx, dy);
     const std::uint8_t* q = plane(b);
     const std::uint32_t sh = shift(b);
     const std::int32_t w = grid_.width(), h = grid_.height();
@@ -150,7 +148,7 @@ class BasicConeRayCaster {
     const float fw = static_cast<float>(w), fh = static_cast<float>(h);
     for (std::int32_t n = 0; n < bound; ++n) {
       if (e >= 2u) {
-        t += static_cast<float>(e) - (1.0f + 1.0f / 64.0f);
+        t += static_cast<float>(e) - kJumpShort;
         if (!(t < r.t_max) || !r.land(t, w, h, fw, fh)) return max_range;
       } else {
         t = r.step();
@@ -181,6 +179,16 @@ class BasicConeRayCaster {
 #endif
 
  private:
+  // A jump of entry e is e - kJumpShort cells: the bound e - 1 less 1/64 cell of slack for rounding.
+  static constexpr float kJumpShort = 1.0f + 1.0f / 64.0f;
+
+  // Bin b of the ray's heading as given, or the ray's own (an atan2) when (dx, dy) is more than 1.2 bins' halves from
+  // it: the bound is for the cone of the bin it is read from.
+  std::uint32_t trusted_bin(std::uint32_t b, float dx, float dy) const {
+    if (t_.cos_b[b] * dx + t_.sin_b[b] * dy >= t_.min_cos_gap) return b;
+    return static_cast<std::uint32_t>(fmath::atan2(dy, dx) * bins_per_rad_ + 0.5f + 1048576.0f) & mask_;
+  }
+
 #if defined(__x86_64__)
 #define EST_AVX2 __attribute__((target("avx2"), always_inline))
   using V = __m256;   // eight floats
@@ -256,9 +264,7 @@ class BasicConeRayCaster {
       _mm256_store_si256(reinterpret_cast<M*>(ok0), ok);
       for (std::uint32_t j = 0; j < 8; ++j) {
         const std::uint32_t i = 8 * k + j;
-        std::uint32_t bj = b0[j];
-        if (ok0[j] != 0 && !(t_.cos_b[bj] * dx[i] + t_.sin_b[bj] * dy[i] >= t_.min_cos_gap))
-          bj = static_cast<std::uint32_t>(fmath::atan2(dy[i], dx[i]) * bins_per_rad_ + 0.5f + 1048576.0f) & mask_;
+        const std::uint32_t bj = ok0[j] != 0 ? trusted_bin(b0[j], dx[i], dy[i]) : b0[j];
         l.q[j] = plane(bj);
         l.sh[j] = shift(bj);
         e0[j] = static_cast<std::int32_t>(entry(l.q[j], l.sh[j], start));
@@ -304,7 +310,7 @@ class BasicConeRayCaster {
     // The jump: t + e - 1 - 1/64 cells, landed as GridRay::land() (its clamp to the last cell cannot act: p < w
     // truncates below w).
     auto jumps = [&](M& jx, M& jy, V& tj) EST_AVX2 {
-      tj = _mm256_add_ps(l.t, _mm256_sub_ps(_mm256_cvtepi32_ps(e), _mm256_set1_ps(1.0f + 1.0f / 64.0f)));
+      tj = _mm256_add_ps(l.t, _mm256_sub_ps(_mm256_cvtepi32_ps(e), _mm256_set1_ps(kJumpShort)));
       const V px = _mm256_add_ps(c.gx, _mm256_mul_ps(tj, l.dx));
       const V py = _mm256_add_ps(c.gy, _mm256_mul_ps(tj, l.dy));
       const V zf = _mm256_setzero_ps();

@@ -139,13 +139,14 @@ inline I exp(F x, F& e) {
   return (x > -85.0f) & (x <= 0.0f);
 }
 
+// The lanes where est::normal_cdf computes its tail (|z| / sqrt 2 <= 9); beyond, it is 0 or 1 (and 0.5 for NaN).
+inline I normal_cdf_computes(F z) { return abs(z) * 0.70710678118654752440f <= 9.0f; }
+
 // est::normal_cdf (est/math/normal.hpp) lane-wise: its bits for every finite z (its exp's argument is in [-81, 0],
 // exp's inline range); NaN gives 0.5, as there.
 inline F normal_cdf(F z) {
-  constexpr float kInvSqrt2 = 0.70710678118654752440f;
-  const F x = abs(z) * kInvSqrt2;
-  const I far = x > 9.0f;
-  const F xs = far ? splat(0.0f) : x;  // keeps exp's argument in range where the tail is not used
+  const I far = ~normal_cdf_computes(z);  // NaN too: replaced below
+  const F xs = far ? splat(0.0f) : abs(z) * 0.70710678118654752440f;  // keeps exp's argument in range
   const F t = 1.0f / (1.0f + 0.3275911f * xs);
   const F poly =
       t * (0.254829592f + t * (-0.284496736f + t * (1.421413741f + t * (-1.453152027f + t * 1.061405429f))));

@@ -206,12 +206,11 @@ class BeamRangeFinderModel {
     lanes::exp(hit_in ? (-0.5f * u) * u : lanes::splat(0.0f), g);
     F hit = hit_coeff_ * g;
     if (lanes::any(near_end)) {
-      // hit_mass(): Phi(b) - Phi(a), where b >= 0 >= a. Each Phi only where a lane needs it: beyond 9 sqrt 2 (its
-      // tails' cut) Phi(b) is 1 and Phi(a) 0, as normal_cdf() returns there.
-      constexpr float kInvSqrt2 = 0.70710678118654752440f;
+      // hit_mass(): Phi(b) - Phi(a), where b >= 0 >= a. Each Phi only where a lane needs it: beyond its tails' cut
+      // Phi(b) is 1 and Phi(a) 0, as normal_cdf() returns there.
       const I need = near_end & (ze != rm);
-      const F cb = lanes::any(need & (lanes::abs(b) * kInvSqrt2 <= 9.0f)) ? lanes::normal_cdf(b) : lanes::splat(1.0f);
-      const F ca = lanes::any(need & (lanes::abs(a) * kInvSqrt2 <= 9.0f)) ? lanes::normal_cdf(a) : lanes::splat(0.0f);
+      const F cb = lanes::any(need & lanes::normal_cdf_computes(b)) ? lanes::normal_cdf(b) : lanes::splat(1.0f);
+      const F ca = lanes::any(need & lanes::normal_cdf_computes(a)) ? lanes::normal_cdf(a) : lanes::splat(0.0f);
       F m = cb - ca;
       m = m < 1e-30f ? lanes::splat(1e-30f) : m;
       const F mass = near_end ? (need ? m : lanes::splat(mass_at_max_)) : lanes::splat(1.0f);

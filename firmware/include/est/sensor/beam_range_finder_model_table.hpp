@@ -82,7 +82,7 @@ class BeamBearingsStorage final : public BeamBearingsBuffer {
 };
 
 namespace detail {
-// Casters that walk four rays at once on this target (cast4_from(): ConeRayCaster on SSE2).
+// Casters that walk many rays at once on this target (cast_lanes_from(): the cone casters on x86-64).
 template <class C, class = void>
 struct casts_lanes : std::false_type {};
 template <class C>
@@ -137,6 +137,11 @@ inline float beam_range_finder_model_over_bins(const ScanBeams& z, const BeamBea
   const float zm = model.params().range_max;
   const typename BinCaster::Origin o = caster.origin(f.x, f.y);
   LogProduct q;
+  // Beam k's direction in the world frame.
+  auto aim = [&](std::int32_t k, float& dx, float& dy) {
+    dx = f.c * z.ux[k] - f.s * z.uy[k];
+    dy = f.s * z.ux[k] + f.c * z.uy[k];
+  };
 #if !defined(__arm__)
   // The host casts a chunk of beams first (a caster with cast_lanes_from(), the cone caster, walks them together in
   // AVX2 lanes where the CPU has them), then takes their densities kLanes at a time, each the float of the loop
@@ -153,17 +158,17 @@ inline float beam_range_finder_model_over_bins(const ScanBeams& z, const BeamBea
       const std::int32_t padded = (m + 7) & ~7;
       for (std::int32_t j = 0; j < padded; ++j) {
         const std::int32_t k = k0 + (j < m ? j : 0);
-        dxs[j] = j < m ? f.c * z.ux[k] - f.s * z.uy[k] : __builtin_nanf("");
-        dys[j] = f.s * z.ux[k] + f.c * z.uy[k];
+        aim(k, dxs[j], dys[j]);
+        if (j >= m) dxs[j] = __builtin_nanf("");
         hb[j] = heading_bins + bearings.bins_of_beam[k];
       }
-      caster.template cast_lanes_from<kChunk / 8>(o, dxs, dys, hb, zm, z_exp, static_cast<std::uint32_t>(padded / 8));
+      caster.template cast_lanes_from<kChunk / 8>(o, dxs, dys, hb, zm, z_exp,
+                                                  static_cast<std::uint32_t>(padded / 8));
     } else {
       for (std::int32_t j = 0; j < m; ++j) {
-        const std::int32_t k = k0 + j;
-        const float dx = f.c * z.ux[k] - f.s * z.uy[k];
-        const float dy = f.s * z.ux[k] + f.c * z.uy[k];
-        z_exp[j] = caster.cast_from(o, dx, dy, heading_bins + bearings.bins_of_beam[k], zm);
+        float dx = 0.0f, dy = 0.0f;
+        aim(k0 + j, dx, dy);
+        z_exp[j] = caster.cast_from(o, dx, dy, heading_bins + bearings.bins_of_beam[k0 + j], zm);
       }
     }
     model.densities(readings.reading + k0, z_exp, d, m);
@@ -171,8 +176,8 @@ inline float beam_range_finder_model_over_bins(const ScanBeams& z, const BeamBea
   }
 #else
   for (std::int32_t k = 0; k < z.count; ++k) {
-    const float dx = f.c * z.ux[k] - f.s * z.uy[k];
-    const float dy = f.s * z.ux[k] + f.c * z.uy[k];
+    float dx = 0.0f, dy = 0.0f;
+    aim(k, dx, dy);
     const float z_exp = caster.cast_from(o, dx, dy, heading_bins + bearings.bins_of_beam[k], zm);
     q.mul(model.density(readings.reading[k], z_exp));
   }
