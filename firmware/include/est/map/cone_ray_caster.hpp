@@ -38,8 +38,8 @@
 // per cell and a line of floats.
 // Cost (Intel map, T = 64, host, the beam model through cast_lanes_from() and lane densities): ~22 ns per
 // particle-beam in bench_sensor_models (2.3 jumps and 2.3 exact steps per cast), 30-34 in bench_mcl's workload (4.0
-// jumps and 2.7 steps: longer rays); on the M4F at T = 16 see the README's board table (bench_mcl; 534 instructions
-// per particle-beam, 607 packed). Every loop is bounded: a jump advances the ray by at least 63/64 cell and a step
+// jumps and 2.7 steps: longer rays); on the M4F at T = 16 see the README's board table (bench_mcl; 473 instructions
+// per particle-beam, 545 packed). Every loop is bounded: a jump advances the ray by at least 63/64 cell and a step
 // moves it one cell, so a cast ends within 3 (W + H) + 8 iterations; the accuracy is tested against GridRayCaster
 // (tests/test_cone_ray_caster.cpp).
 // Build: per heading, kDirect + 1 prefix-count reads and a window of bounds per cell, in loops over whole lines;
@@ -130,9 +130,10 @@ class BasicConeRayCaster {
   [[gnu::always_inline]] float cast_from(const Origin& o, float dx, float dy, float heading_bins,
                                          float max_range) const {
     if (!o.walk) return 0.0f;
+    // Not a unit vector (nor finite: NaN and inf fail the compare), or no range: refused, as aim() would.
+    if (!(fmath::abs(dx) <= 1.5f && fmath::abs(dy) <= 1.5f && max_range > 0.0f)) return 0.0f;
     detail::GridRay r = o.ray;
-    if (!r.aim(grid_, dx, dy, max_range)) return 0.0f;
-    if (!(fmath::abs(dx) <= 1.5f && fmath::abs(dy) <= 1.5f)) return 0.0f;  // not a unit vector: refused
+    r.aim_checked(grid_, dx, dy, max_range);
     const float f = heading_bins + 0.5f + 1048576.0f;
     const std::uint32_t b = trusted_bin((f >= 0.0f && f < 2097152.0f) ? static_cast<std::uint32_t>(f) & mask_ : 0u,
                                         dx, dy);
@@ -142,17 +143,20 @@ class BasicConeRayCaster {
     std::uint32_t e = entry(q, sh, static_cast<std::uint32_t>(r.iy * w + r.ix));
     float t = 0.0f;
     const std::int32_t bound = 3 * (w + h) + 8;
-    // A jump adds e - 1 - 1/64 cells to t and lands where the ray is then (GridRay::land()); an exact step is
-    // GridRay::step(), from the cell's index. The landing's rounding is far inside the 1/64 cell of slack the entries
-    // keep.
-    const float fw = static_cast<float>(w), fh = static_cast<float>(h);
+    // The walk ends at max_range or where the ray leaves the map, whichever is first: a step whose t reaches
+    // t_exit() has left the map, one below it has not (the same float), so neither move checks the cell against the
+    // map. A jump adds e - 1 - 1/64 cells to t and lands where the ray is then (GridRay::land_inside()); an exact step
+    // is GridRay::step(), from the cell's index. The landing's rounding is far inside the 1/64 cell of slack the
+    // entries keep.
+    const float t_exit = r.t_exit(w, h), t_end = r.t_max < t_exit ? r.t_max : t_exit;
     for (std::int32_t n = 0; n < bound; ++n) {
       if (e >= 2u) {
         t += static_cast<float>(e) - kJumpShort;
-        if (!(t < r.t_max) || !r.land(t, w, h, fw, fh)) return max_range;
+        if (!(t < t_end)) return max_range;
+        r.land_inside(t, w, h);
       } else {
         t = r.step();
-        if (!(t < r.t_max) || !grid_.contains(r.ix, r.iy)) return max_range;
+        if (!(t < t_end)) return max_range;
       }
       e = entry(q, sh, static_cast<std::uint32_t>(r.iy * w + r.ix));
       if (e == 0u) return detail::cells_to_range(t, grid_.resolution(), max_range);
@@ -196,14 +200,14 @@ class BasicConeRayCaster {
   // Eight rays' walk: their cells, parameters, entries, and what each ray was aimed with.
   struct Lanes {
     M ix, iy, e, act, sx, sy, ax, ay;
-    V t, dx, dy, idx, idy, nx, ny, res;
+    V t, dx, dy, idx, idy, nx, ny, res, end;
     const std::uint8_t* q[8];
     std::uint32_t sh[8];
   };
   // What the rays share: their start, the map, the range.
   struct Walk {
-    M wb, hb, wv;  // w and h biased by 2^31; w for the index's product
-    V gx, gy, fw, fh, tmax, res_cell, mr;
+    M wv, wl, hl;  // w for the index's product; the last column and row
+    V gx, gy, res_cell, mr;
   };
   // Float compares as C's (false on NaN) as masks, blends, the cast between the two.
   EST_AVX2 static M as_m(V v) { return _mm256_castps_si256(v); }
@@ -231,6 +235,8 @@ class BasicConeRayCaster {
     const V tiny = _mm256_set1_ps(1e-9f), mtiny = _mm256_set1_ps(-1e-9f);
     const M zero = _mm256_setzero_si256();
     int active = 0;
+    const V gx = _mm256_set1_ps(r.gx), gy = _mm256_set1_ps(r.gy);
+    const V t_max = _mm256_set1_ps(max_range * grid_.inv_resolution());  // aim()'s, the same for every ray
     for (std::uint32_t k = 0; k < groups; ++k) {
       Lanes& l = g[k];
       const V vdx = _mm256_loadu_ps(dx + 8 * k), vdy = _mm256_loadu_ps(dy + 8 * k);
@@ -251,6 +257,12 @@ class BasicConeRayCaster {
       const V never = _mm256_set1_ps(detail::GridRay::kNever), below = _mm256_set1_ps(-__builtin_inff());
       l.nx = sel(stepx, below, never);
       l.ny = sel(stepy, below, never);
+      // min(t_max, t_exit()): the map's edge ahead (w or 0 columns, h or 0 rows) as the step crosses it.
+      const V ex = _mm256_max_ps(
+          _mm256_mul_ps(_mm256_sub_ps(_mm256_cvtepi32_ps(both(gtx, _mm256_set1_epi32(w))), gx), l.idx), l.nx);
+      const V ey = _mm256_max_ps(
+          _mm256_mul_ps(_mm256_sub_ps(_mm256_cvtepi32_ps(both(gty, _mm256_set1_epi32(h))), gy), l.idy), l.ny);
+      l.end = _mm256_min_ps(t_max, _mm256_min_ps(ex, ey));
       l.dx = vdx;
       l.dy = vdy;
       // The heading bin as cast_from() picks it; the table's planes and the start's entries one lane at a time.
@@ -278,16 +290,12 @@ class BasicConeRayCaster {
       active |= lanes_of(ok);
     }
     if (active != 0) {
-      const float t_max = max_range * grid_.inv_resolution();  // aim()'s, the same for every ray
       Walk c;
-      c.fw = _mm256_set1_ps(static_cast<float>(w));
-      c.fh = _mm256_set1_ps(static_cast<float>(h));
-      c.gx = _mm256_set1_ps(r.gx);
-      c.gy = _mm256_set1_ps(r.gy);
-      c.tmax = _mm256_set1_ps(t_max);
-      c.wb = _mm256_set1_epi32(w ^ INT32_MIN);
-      c.hb = _mm256_set1_epi32(h ^ INT32_MIN);
+      c.gx = gx;
+      c.gy = gy;
       c.wv = _mm256_set1_epi32(w);
+      c.wl = _mm256_set1_epi32(w - 1);
+      c.hl = _mm256_set1_epi32(h - 1);
       c.res_cell = _mm256_set1_ps(grid_.resolution());
       c.mr = _mm256_set1_ps(max_range);
       const std::int32_t bound = 3 * (w + h) + 8;
@@ -307,16 +315,13 @@ class BasicConeRayCaster {
     if (walked == 0) return false;
     const M e = l.e, ix = l.ix, iy = l.iy;
     const M jump = _mm256_cmpgt_epi32(e, _mm256_set1_epi32(1));
-    // The jump: t + e - 1 - 1/64 cells, landed as GridRay::land() (its clamp to the last cell cannot act: p < w
-    // truncates below w).
+    // The jump: t + e - 1 - 1/64 cells, landed as GridRay::land_inside() (a lane whose t reaches its end is not
+    // walked on, whatever its cell).
     auto jumps = [&](M& jx, M& jy, V& tj) EST_AVX2 {
       tj = _mm256_add_ps(l.t, _mm256_sub_ps(_mm256_cvtepi32_ps(e), _mm256_set1_ps(kJumpShort)));
-      const V px = _mm256_add_ps(c.gx, _mm256_mul_ps(tj, l.dx));
-      const V py = _mm256_add_ps(c.gy, _mm256_mul_ps(tj, l.dy));
-      const V zf = _mm256_setzero_ps();
-      jx = _mm256_cvttps_epi32(px);
-      jy = _mm256_cvttps_epi32(py);
-      return both(both(lt(tj, c.tmax), both(ge(px, zf), ge(py, zf))), both(lt(px, c.fw), lt(py, c.fh)));
+      jx = _mm256_min_epi32(_mm256_cvttps_epi32(_mm256_add_ps(c.gx, _mm256_mul_ps(tj, l.dx))), c.wl);
+      jy = _mm256_min_epi32(_mm256_cvttps_epi32(_mm256_add_ps(c.gy, _mm256_mul_ps(tj, l.dy))), c.hl);
+      return lt(tj, l.end);
     };
     // The step: GridRay::step(). A crossing never taken (inverse 0) is raised to kNever by the max with the lane's
     // floor; min(tx, ty) is tx < ty ? tx : ty.
@@ -329,10 +334,7 @@ class BasicConeRayCaster {
       sx = _mm256_add_epi32(ix, both(xs, l.sx));
       sy = _mm256_add_epi32(iy, _mm256_andnot_si256(xs, l.sy));
       ts = _mm256_min_ps(tx, ty);
-      // 0 <= i < w as one signed compare of both biased by 2^31.
-      const M bias = _mm256_set1_epi32(INT32_MIN);
-      return both(lt(ts, c.tmax), both(_mm256_cmpgt_epi32(c.wb, _mm256_xor_si256(sx, bias)),
-                                       _mm256_cmpgt_epi32(c.hb, _mm256_xor_si256(sy, bias))));
+      return lt(ts, l.end);
     };
     // Each lane's move; a lane that leaves keeps max_range and stops. A lane no longer walked may hold any cell: its
     // read is of cell 0. When every walked lane jumps, or every one steps, the other move is not computed.

@@ -61,8 +61,13 @@ struct GridRay {
   }
   // aim: false when max_range is not positive or the direction not finite.
   bool aim(const OccupancyGrid& g, float ddx, float ddy, float max_range) {
-    constexpr float kTiny = 1e-9f;
     if (!(max_range > 0.0f) || !fmath::isfinite(ddx) || !fmath::isfinite(ddy)) return false;
+    aim_checked(g, ddx, ddy, max_range);
+    return true;
+  }
+  // aim() of a finite direction and a positive max_range, which the caller has checked.
+  void aim_checked(const OccupancyGrid& g, float ddx, float ddy, float max_range) {
+    constexpr float kTiny = 1e-9f;
     dx = ddx;
     dy = ddy;
     step_x = ddx > kTiny ? 1 : (ddx < -kTiny ? -1 : 0);
@@ -72,7 +77,6 @@ struct GridRay {
     inv_dx = step_x != 0 ? 1.0f / ddx : 0.0f;
     inv_dy = step_y != 0 ? 1.0f / ddy : 0.0f;
     t_max = max_range * g.inv_resolution();
-    return true;
   }
   static constexpr float kNever = 3.0e38f;
   float t_x() const { return step_x != 0 ? (static_cast<float>(ix + ahead_x) - gx) * inv_dx : kNever; }
@@ -88,6 +92,22 @@ struct GridRay {
     if (ix >= w) ix = w - 1;
     if (iy >= h) iy = h - 1;
     return true;
+  }
+  // The parameter (cells) at which the ray leaves the map of w x h cells: the same float as step()'s crossing of the
+  // map's edge (t_x() at ix + ahead_x = w, or 0 stepping down), so a step leaves the map exactly when its t reaches
+  // it; kNever along an axis the ray does not step on.
+  float t_exit(std::int32_t w, std::int32_t h) const {
+    const float ex = step_x != 0 ? (static_cast<float>(ahead_x * w) - gx) * inv_dx : kNever;
+    const float ey = step_y != 0 ? (static_cast<float>(ahead_y * h) - gy) * inv_dy : kNever;
+    return ex < ey ? ex : ey;
+  }
+  // land() for a t below t_exit(): the point is on the map but for rounding at its edge (a few 2^-24 of the map's
+  // size, so above -1 cell), which truncation towards zero and the clamps to the last cell take.
+  void land_inside(float t, std::int32_t w, std::int32_t h) {
+    ix = static_cast<std::int32_t>(gx + t * dx);
+    iy = static_cast<std::int32_t>(gy + t * dy);
+    if (ix >= w) ix = w - 1;
+    if (iy >= h) iy = h - 1;
   }
   // Moves into the next cell along the ray; returns the ray parameter (cells) at which it was entered.
   float step() {
