@@ -16,7 +16,7 @@
 // self-test's digest is the boards'), with the table reads of many rays in flight instead of one ray's chain of
 // them; without AVX2 it casts one ray at a time. (A jump in fixed point, 2^-14 cell, shortened one ray's chain on
 // the host, 56-59 against 86 ns per particle-beam, but costs two 32 x 32-bit high products per move in lanes and
-// saved 2 % on the board: the jumps land in floats, as GridRay::land().)
+// saved 2 % on the board: the jumps land in floats, as GridRay::land_inside().)
 //
 // The bound, for a bin whose headings all have cos > 0 (x-dominant, the other three cases by symmetry): a ray from
 // (x0, y0) in [cx, cx + 1] x [cy, cy + 1] reaches column cx + i after a horizontal run of at least i - 1 cells, so

@@ -81,18 +81,6 @@ struct GridRay {
   static constexpr float kNever = 3.0e38f;
   float t_x() const { return step_x != 0 ? (static_cast<float>(ix + ahead_x) - gx) * inv_dx : kNever; }
   float t_y() const { return step_y != 0 ? (static_cast<float>(iy + ahead_y) - gy) * inv_dy : kNever; }
-  // Moves to the cell the ray is in at parameter t (cells), after a jump; false when that point is off the map of
-  // w x h cells (fw, fh the same as floats, converted once by the caller).
-  bool land(float t, std::int32_t w, std::int32_t h, float fw, float fh) {
-    const float px = gx + t * dx;
-    const float py = gy + t * dy;
-    if (!(px >= 0.0f && py >= 0.0f && px < fw && py < fh)) return false;
-    ix = static_cast<std::int32_t>(px);
-    iy = static_cast<std::int32_t>(py);
-    if (ix >= w) ix = w - 1;
-    if (iy >= h) iy = h - 1;
-    return true;
-  }
   // The parameter (cells) at which the ray leaves the map of w x h cells: the same float as step()'s crossing of the
   // map's edge (t_x() at ix + ahead_x = w, or 0 stepping down), so a step leaves the map exactly when its t reaches
   // it; kNever along an axis the ray does not step on.
@@ -101,8 +89,10 @@ struct GridRay {
     const float ey = step_y != 0 ? (static_cast<float>(ahead_y * h) - gy) * inv_dy : kNever;
     return ex < ey ? ex : ey;
   }
-  // land() for a t below t_exit(): the point is on the map but for rounding at its edge (a few 2^-24 of the map's
-  // size, so above -1 cell), which truncation towards zero and the clamps to the last cell take.
+  // Moves to the cell the ray is in at parameter t (cells), after a jump, for a t below t_exit(): the point is on the
+  // map but for rounding at its edge (a few 2^-24 of the map's size, so above -1 cell; on an axis the ray does not
+  // step on, |t d| <= 1e-9 t stays under a cell for the t a bounded walk reaches), which truncation towards zero and
+  // the clamps to the last cell take.
   void land_inside(float t, std::int32_t w, std::int32_t h) {
     ix = static_cast<std::int32_t>(gx + t * dx);
     iy = static_cast<std::int32_t>(gy + t * dy);
@@ -170,18 +160,21 @@ class DistanceTransformRayCaster {
     if (!r.init(grid_, x, y, dx, dy, max_range)) return 0.0f;
     const std::uint16_t* q = edt_.data();
     const std::int32_t w = grid_.width(), h = grid_.height();
-    const float fw = static_cast<float>(w), fh = static_cast<float>(h);
     std::int32_t units = q[r.iy * w + r.ix];
     if (units == 0) return 0.0f;
     float t = 0.0f;
     const std::int32_t bound = 2 * (w + h) + 8;
+    // The walk ends at max_range or where the ray leaves the map (t_exit(): a step has left it exactly when its t
+    // reaches it), so neither move checks its cell against the map.
+    const float t_exit = r.t_exit(w, h), t_end = r.t_max < t_exit ? r.t_max : t_exit;
     for (std::int32_t n = 0; n < bound; ++n) {
       if (units >= kMinJumpUnits) {
         t += static_cast<float>(units - kMarginUnits) * (1.0f / 16.0f);
-        if (!(t < r.t_max) || !r.land(t, w, h, fw, fh)) return max_range;
+        if (!(t < t_end)) return max_range;
+        r.land_inside(t, w, h);
       } else {
         t = r.step();
-        if (!(t < r.t_max) || !grid_.contains(r.ix, r.iy)) return max_range;
+        if (!(t < t_end)) return max_range;
       }
       units = q[r.iy * w + r.ix];
       if (units == 0) return detail::cells_to_range(t, grid_.resolution(), max_range);
