@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <string>
 
 #include "datasets.hpp"
@@ -172,4 +173,65 @@ TEST_CASE("ray casts are bit-identical run to run", "[ray_casting]") {
   const float r1 = fast.cast(3.3f, 7.1f, 0.6f, 0.8f, 20.0f);
   const float r2 = fast.cast(3.3f, 7.1f, 0.6f, 0.8f, 20.0f);
   CHECK(r1 == r2);
+}
+
+// The walks of the accelerated casters end at min(max_range, t_exit()) and check no cell against the map: that is
+// exact only if a step's t reaches t_exit() exactly when it leaves the map (the same float) and stays below it on the
+// map, and if a jump below t_exit() lands on the map (land_inside()).
+TEST_CASE("a walk leaves the map exactly at t_exit(), and a landing below it is on the map", "[ray_casting]") {
+  REQUIRE(g_grid.configure(37, 23, 0.1f, -1.0f, -0.5f, est::kFreeCell) == est::MapStatus::ok);
+  const est::OccupancyGrid& g = g_grid.grid();
+  const std::int32_t w = g.width(), h = g.height();
+  est::Rng rng(21u);
+  int rays = 0, steps = 0, landings = 0, near_edge = 0;
+  for (int i = 0; i < 20000; ++i) {
+    // Starts anywhere, a fifth of them on a cell boundary or the map's edge; headings anywhere, a fifth along an axis
+    // or a diagonal.
+    float gx = rng.uniform(0.0f, static_cast<float>(w)), gy = rng.uniform(0.0f, static_cast<float>(h));
+    if (i % 5 == 1) gx = static_cast<float>(static_cast<std::int32_t>(gx));
+    if (i % 5 == 2) gy = 0.0f;
+    float th = rng.uniform(-est::kPi, est::kPi);
+    if (i % 5 == 3) th = static_cast<float>(static_cast<std::int32_t>(rng.uniform(0.0f, 8.0f))) * (est::kPi / 4.0f);
+    const float dx = i % 5 == 3 && std::fabs(std::cos(th)) < 1e-6f ? 0.0f : std::cos(th);
+    const float dy = i % 5 == 3 && std::fabs(std::sin(th)) < 1e-6f ? 0.0f : std::sin(th);
+    est::detail::GridRay r{};
+    if (!r.init(g, g.origin_x() + gx * g.resolution(), g.origin_y() + gy * g.resolution(), dx, dy, 1e6f)) continue;
+    ++rays;
+    // 0 (or -0) for a start on the edge it heads out of.
+    const float t_exit = r.t_exit(w, h);
+    REQUIRE(t_exit >= 0.0f);
+    REQUIRE(t_exit < est::detail::GridRay::kNever);
+    // Landings at random t below t_exit() are on the map, in the cell of the point (but within rounding of a cell's
+    // boundary).
+    for (int k = 0; k < 4 && t_exit > 0.0f; ++k) {
+      est::detail::GridRay l = r;
+      const float t = k == 0 ? std::nextafter(t_exit, 0.0f) : rng.uniform(0.0f, t_exit);
+      l.land_inside(t, w, h);
+      ++landings;
+      CHECK(g.contains(l.ix, l.iy));
+      const double px = double(r.gx) + double(t) * double(r.dx), py = double(r.gy) + double(t) * double(r.dy);
+      const bool on_boundary = std::fabs(px - std::round(px)) < 1e-4 || std::fabs(py - std::round(py)) < 1e-4;
+      if (on_boundary) {
+        ++near_edge;
+      } else {
+        CHECK(l.ix == static_cast<std::int32_t>(px));
+        CHECK(l.iy == static_cast<std::int32_t>(py));
+      }
+    }
+    // Steps: below t_exit() on the map, and the step that leaves the map has t == t_exit(), bit for bit.
+    for (int n = 0; n < w + h + 4; ++n) {
+      const float t = r.step();
+      ++steps;
+      if (g.contains(r.ix, r.iy)) {
+        CHECK(t < t_exit);
+        if (!(t < t_exit)) break;
+      } else {
+        CHECK(std::memcmp(&t, &t_exit, sizeof t) == 0);
+        break;
+      }
+    }
+  }
+  std::printf("t_exit: %d rays, %d steps, %d landings (%d within 1e-4 cell of a boundary)\n", rays, steps, landings,
+              near_edge);
+  CHECK(rays > 19000);
 }
