@@ -19,6 +19,7 @@
 #include "est/sensor/likelihood_field_grid.hpp"
 #include "est/sensor/likelihood_field_range_finder_model.hpp"
 #include "est/sensor/range_scan.hpp"
+#include "bench_beam_density.hpp"
 #include "budget_report.hpp"
 #include "instruction_counter.hpp"
 #include "semihosting.hpp"
@@ -50,6 +51,9 @@ constexpr const char* kConePhase = "correct_beam_cone";
 est::BeamBearingsStorage<kK> g_bearings;
 est::BeamReadingsStorage<kK> g_readings;
 volatile float g_cone_sink = 0.0f;
+#if !EST_BENCH_CONE_PACKED
+float g_z_exp[kN * kK];  // each particle-beam's z*, for the density phase
+#endif
 
 void build_room() {
   g_grid.configure(160, 120, 0.05f, 0.0f, 0.0f, est::kFreeCell);
@@ -117,6 +121,9 @@ int main() {
 
   Phase predict{"predict"}, predict_batch{"predict_batch"}, lf{"correct_lf"}, lf_scalar{"correct_lf_scalar"},
       bm{"correct_beam"}, bm_cone{kConePhase}, resample{"resample"};
+#if !EST_BENCH_CONE_PACKED
+  Phase density{"beam_density"};
+#endif
   for (int t = 0; t < kSteps; ++t) {
     truth = est::BicycleMotionModel::sample(truth, u, noise, world);
     float ranges[kK];
@@ -155,6 +162,11 @@ int main() {
                                                                  p.pose(i), mount, cone, beam);
     }
     bm_cone.instructions += board::instruction_counter_read();
+#if !EST_BENCH_CONE_PACKED
+    // The same beam model's density and product alone, at the z* the cone caster gives (cast before counting).
+    density.instructions += board::count_beam_density(z, g_readings.view(), g_mcl.particles(), mount, cone, beam,
+                                                      g_z_exp, g_cone_sink);
+#endif
     board::instruction_counter_start();
     g_mcl.correct([&](const est::Pose2& x) { return est::likelihood_field_range_finder_model(z, x, mount, g_field); });
     lf_scalar.instructions += board::instruction_counter_read();
@@ -176,6 +188,9 @@ int main() {
   print_phase(lf_scalar, pb);
   print_phase(bm, pb);
   print_phase(bm_cone, pb);
+#if !EST_BENCH_CONE_PACKED
+  print_phase(density, pb);
+#endif
   print_phase(resample, kN);
   board::write("\nbench-mcl " EST_BOARD_NAME " MCL step (predict + likelihood field + resample): ");
   board::write_dec((predict.instructions + lf.instructions + resample.instructions) / kSteps);
@@ -192,6 +207,7 @@ int main() {
   board::report_budget("bench.mcl.likelihood_field", lf.instructions / kSteps, "instructions");
   board::report_budget("bench.mcl.beam_model", bm.instructions / kSteps, "instructions");
   board::report_budget("bench.mcl.beam_model_cone", bm_cone.instructions / kSteps, "instructions");
+  board::report_budget("bench.mcl.beam_density", density.instructions / kSteps, "instructions");
   board::report_budget("bench.mcl.resample", resample.instructions / kSteps, "instructions");
   board::report_budget("bench.mcl.step",
                        (predict_batch.instructions + lf.instructions + resample.instructions) / kSteps, "instructions");
