@@ -38,8 +38,8 @@
 // per cell and a line of floats.
 // Cost (Intel map, T = 64, host, the beam model through cast_lanes_from() and lane densities): ~22 ns per
 // particle-beam in bench_sensor_models (2.3 jumps and 2.3 exact steps per cast), 30-34 in bench_mcl's workload (4.0
-// jumps and 2.7 steps: longer rays); on the M4F at T = 16 see the README's board table (bench_mcl; 473 instructions
-// per particle-beam, 545 packed). Every loop is bounded: a jump advances the ray by at least 63/64 cell and a step
+// jumps and 2.7 steps: longer rays); on the M4F at T = 16 see the README's board table (bench_mcl; 467 instructions
+// per particle-beam, 508 packed). Every loop is bounded: a jump advances the ray by at least 63/64 cell and a step
 // moves it one cell, so a cast ends within 3 (W + H) + 8 iterations; the accuracy is tested against GridRayCaster
 // (tests/test_cone_ray_caster.cpp).
 // Build: per heading, kDirect + 1 prefix-count reads and a window of bounds per cell, in loops over whole lines;
@@ -140,7 +140,8 @@ class BasicConeRayCaster {
     const std::uint8_t* q = plane(b);
     const std::uint32_t sh = shift(b);
     const std::int32_t w = grid_.width(), h = grid_.height();
-    std::uint32_t e = entry(q, sh, static_cast<std::uint32_t>(r.iy * w + r.ix));
+    // The walk reads codes (an entry, or a packed entry's code: 0 and 1 the same, a jump code >= 2 too).
+    std::uint32_t e = code(q, sh, static_cast<std::uint32_t>(r.iy * w + r.ix));
     float t = 0.0f;
     const std::int32_t bound = 3 * (w + h) + 8;
     // The walk ends at max_range or where the ray leaves the map, whichever is first: a step whose t reaches
@@ -149,16 +150,16 @@ class BasicConeRayCaster {
     // is GridRay::step(), from the cell's index. The landing's rounding is far inside the 1/64 cell of slack the
     // entries keep.
     const float t_exit = r.t_exit(w, h), t_end = r.t_max < t_exit ? r.t_max : t_exit;
-    for (std::int32_t n = 0; n < bound; ++n) {
+    for (std::int32_t n = bound; n > 0; --n) {  // counted down: one compare fewer a move on the boards
       if (e >= 2u) {
-        t += static_cast<float>(e) - kJumpShort;
+        t += jump_cells(e);
         if (!(t < t_end)) return max_range;
         r.land_inside(t, w, h);
       } else {
         t = r.step();
         if (!(t < t_end)) return max_range;
       }
-      e = entry(q, sh, static_cast<std::uint32_t>(r.iy * w + r.ix));
+      e = code(q, sh, static_cast<std::uint32_t>(r.iy * w + r.ix));
       if (e == 0u) return detail::cells_to_range(t, grid_.resolution(), max_range);
     }
     return max_range;
@@ -375,11 +376,27 @@ class BasicConeRayCaster {
   // Heading b's plane of the table, and the place of its half in a packed byte.
   const std::uint8_t* plane(std::uint32_t b) const { return t_.entry + (Packed ? b >> 1 : b) * cells_; }
   static std::uint32_t shift(std::uint32_t b) { return Packed ? (b & 1u) * 4u : 0u; }
-  // The entry of cell i in a plane q.
+  // The entry of cell i in a plane q; code() the same for bytes, a packed entry's code (its level kConeLevels[c]).
   static std::uint32_t entry(const std::uint8_t* q, std::uint32_t sh, std::uint32_t i) {
-    if (Packed) return kConeLevels[(static_cast<std::uint32_t>(q[i]) >> sh) & 15u];
+    if (Packed) return kConeLevels[code(q, sh, i)];
     return q[i];
   }
+  static std::uint32_t code(const std::uint8_t* q, std::uint32_t sh, std::uint32_t i) {
+    if (Packed) return (static_cast<std::uint32_t>(q[i]) >> sh) & 15u;
+    return q[i];
+  }
+  // The jump of a code >= 2, in cells: its entry e - kJumpShort, the same float; for a packed code from a table of
+  // them (one load where the level's load, its conversion and the subtraction took three instructions on the M4F).
+  static float jump_cells(std::uint32_t c) {
+    if (Packed) return kJumps[c];
+    return static_cast<float>(c) - kJumpShort;
+  }
+  static constexpr float kJumps[16] = {
+      0.0f, 0.0f, kConeLevels[2] - kJumpShort, kConeLevels[3] - kJumpShort, kConeLevels[4] - kJumpShort,
+      kConeLevels[5] - kJumpShort, kConeLevels[6] - kJumpShort, kConeLevels[7] - kJumpShort,
+      kConeLevels[8] - kJumpShort, kConeLevels[9] - kJumpShort, kConeLevels[10] - kJumpShort,
+      kConeLevels[11] - kJumpShort, kConeLevels[12] - kJumpShort, kConeLevels[13] - kJumpShort,
+      kConeLevels[14] - kJumpShort, kConeLevels[15] - kJumpShort};
 
   OccupancyGrid grid_{};
   Tables t_{};
