@@ -11,9 +11,11 @@ std::uint64_t count_beam_density(const est::ScanBeams& z, const est::BeamReading
   const std::uint32_t k_count = static_cast<std::uint32_t>(z.count);
   for (std::uint32_t i = 0; i < p.count; ++i) {
     const est::SensorFrame f = est::sensor_frame(p.pose(i), mount);
-    for (std::uint32_t k = 0; k < k_count; ++k)
-      z_exp[i * k_count + k] = cone.cast(f.x, f.y, f.c * z.ux[k] - f.s * z.uy[k], f.s * z.ux[k] + f.c * z.uy[k],
-                                         model.params().range_max);
+    for (std::uint32_t k = 0; k < k_count; ++k) {
+      float dx = 0.0f, dy = 0.0f;
+      f.beam(z, static_cast<std::int32_t>(k), dx, dy);
+      z_exp[i * k_count + k] = cone.cast(f.x, f.y, dx, dy, model.params().range_max);
+    }
   }
   instruction_counter_start();
   for (std::uint32_t i = 0; i < p.count; ++i) {

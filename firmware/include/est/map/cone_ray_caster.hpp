@@ -388,15 +388,18 @@ class BasicConeRayCaster {
   // The jump of a code >= 2, in cells: its entry e - kJumpShort, the same float; for a packed code from a table of
   // them (one load where the level's load, its conversion and the subtraction took three instructions on the M4F).
   static float jump_cells(std::uint32_t c) {
-    if (Packed) return kJumps[c];
+    if (Packed) return kJumps.cells[c];
     return static_cast<float>(c) - kJumpShort;
   }
-  static constexpr float kJumps[16] = {
-      0.0f, 0.0f, kConeLevels[2] - kJumpShort, kConeLevels[3] - kJumpShort, kConeLevels[4] - kJumpShort,
-      kConeLevels[5] - kJumpShort, kConeLevels[6] - kJumpShort, kConeLevels[7] - kJumpShort,
-      kConeLevels[8] - kJumpShort, kConeLevels[9] - kJumpShort, kConeLevels[10] - kJumpShort,
-      kConeLevels[11] - kJumpShort, kConeLevels[12] - kJumpShort, kConeLevels[13] - kJumpShort,
-      kConeLevels[14] - kJumpShort, kConeLevels[15] - kJumpShort};
+  struct Jumps {
+    float cells[16];
+  };
+  static constexpr Jumps jumps_of_levels() {
+    Jumps j{};
+    for (std::uint32_t c = 2; c < 16; ++c) j.cells[c] = static_cast<float>(kConeLevels[c]) - kJumpShort;
+    return j;
+  }
+  static constexpr Jumps kJumps = jumps_of_levels();  // codes 0 and 1 are no jump: 0
 
   OccupancyGrid grid_{};
   Tables t_{};

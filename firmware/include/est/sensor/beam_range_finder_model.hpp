@@ -258,8 +258,8 @@ float beam_range_finder_model(const ScanBeams& z, const Pose2& x, const Pose2& m
   const float zm = model.params().range_max;
   float sum = 0.0f;
   for (std::int32_t k = 0; k < z.count; ++k) {
-    const float dx = f.c * z.ux[k] - f.s * z.uy[k];
-    const float dy = f.s * z.ux[k] + f.c * z.uy[k];
+    float dx = 0.0f, dy = 0.0f;
+    f.beam(z, k, dx, dy);
     const float z_exp = caster.cast(f.x, f.y, dx, dy, zm);
     sum += model.log_density(z.is_max[k] ? zm : z.range[k], z_exp);
   }

@@ -106,8 +106,8 @@ inline float beam_range_finder_model(const ScanBeams& z, const BeamBearings& bea
   const HeadingRangeTable::Origin o = table.origin(f.x, f.y);
   float sum = 0.0f;
   for (std::int32_t k = 0; k < z.count; ++k) {
-    const float dx = f.c * z.ux[k] - f.s * z.uy[k];
-    const float dy = f.s * z.ux[k] + f.c * z.uy[k];
+    float dx = 0.0f, dy = 0.0f;
+    f.beam(z, k, dx, dy);
     const float z_exp = table.cast_from(o, dx, dy, heading_bins + bearings.bins_of_beam[k], zm);
     sum += model.log_density(z.is_max[k] ? zm : z.range[k], z_exp);
   }
@@ -137,11 +137,6 @@ inline float beam_range_finder_model_over_bins(const ScanBeams& z, const BeamBea
   const float zm = model.params().range_max;
   const typename BinCaster::Origin o = caster.origin(f.x, f.y);
   LogProduct q;
-  // Beam k's direction in the world frame.
-  auto aim = [&](std::int32_t k, float& dx, float& dy) {
-    dx = f.c * z.ux[k] - f.s * z.uy[k];
-    dy = f.s * z.ux[k] + f.c * z.uy[k];
-  };
 #if !defined(__arm__)
   // The host casts a chunk of beams first (a caster with cast_lanes_from(), the cone caster, walks them together in
   // AVX2 lanes where the CPU has them), then takes their densities kLanes at a time, each the float of the loop
@@ -158,7 +153,7 @@ inline float beam_range_finder_model_over_bins(const ScanBeams& z, const BeamBea
       const std::int32_t padded = (m + 7) & ~7;
       for (std::int32_t j = 0; j < padded; ++j) {
         const std::int32_t k = k0 + (j < m ? j : 0);
-        aim(k, dxs[j], dys[j]);
+        f.beam(z, k, dxs[j], dys[j]);
         if (j >= m) dxs[j] = __builtin_nanf("");
         hb[j] = heading_bins + bearings.bins_of_beam[k];
       }
@@ -167,7 +162,7 @@ inline float beam_range_finder_model_over_bins(const ScanBeams& z, const BeamBea
     } else {
       for (std::int32_t j = 0; j < m; ++j) {
         float dx = 0.0f, dy = 0.0f;
-        aim(k0 + j, dx, dy);
+        f.beam(z, k0 + j, dx, dy);
         z_exp[j] = caster.cast_from(o, dx, dy, heading_bins + bearings.bins_of_beam[k0 + j], zm);
       }
     }
@@ -177,7 +172,7 @@ inline float beam_range_finder_model_over_bins(const ScanBeams& z, const BeamBea
 #else
   for (std::int32_t k = 0; k < z.count; ++k) {
     float dx = 0.0f, dy = 0.0f;
-    aim(k, dx, dy);
+    f.beam(z, k, dx, dy);
     const float z_exp = caster.cast_from(o, dx, dy, heading_bins + bearings.bins_of_beam[k], zm);
     q.mul(model.density(readings.reading[k], z_exp));
   }

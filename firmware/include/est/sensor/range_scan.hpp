@@ -54,6 +54,11 @@ struct ScanBeams {
 struct SensorFrame {
   float x, y, c, s;
   float heading() const { return fmath::atan2(s, c); }
+  // Beam k's direction in the world frame: its unit vector in the sensor frame, turned by the sensor's heading.
+  void beam(const ScanBeams& z, std::int32_t k, float& dx, float& dy) const {
+    dx = c * z.ux[k] - s * z.uy[k];
+    dy = s * z.ux[k] + c * z.uy[k];
+  }
 };
 inline SensorFrame sensor_frame(const Pose2& robot, const Pose2& mount) {
   float c = 0.0f, s = 0.0f;
