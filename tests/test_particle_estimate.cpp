@@ -88,3 +88,32 @@ TEST_CASE("a set with no weight gives a finite estimate with zero weight", "[est
   CHECK(e.mean.is_finite());
   CHECK(e.covariance.allFinite());
 }
+
+TEST_CASE("by mode, the strongest cluster is cut to its heaviest mode: one place, two headings, not their mean",
+          "[estimate]") {
+  // 70 particles at heading 0.2 with mode 3 and 30 at heading 0.2 - 24 deg with mode 4, all at one place: the
+  // steered rangefinder's two hypotheses of one sensor pose. By place alone the mean heading lies between them.
+  static est::ParticleSet<100> s;
+  s.set_count(100);
+  auto v = s.view();
+  for (std::uint32_t i = 0; i < 100; ++i) {
+    const bool major = i < 70;
+    v.x[i] = 3.0f + 0.001f * static_cast<float>(i % 7);
+    v.y[i] = 4.0f;
+    v.theta[i] = major ? 0.2f : 0.2f - 0.4189f;
+    v.mode[i] = major ? 3u : 4u;
+    v.log_w[i] = 0.0f;
+  }
+  est::normalize_log_weights(v.log_w, 100u);
+  const auto mixed = est::strongest_cluster(s.view());
+  CHECK(std::abs(static_cast<double>(mixed.strongest.mean.theta) - 0.2) > 0.1);  // pulled ~7 deg off by the minor
+  const auto by_mode = est::strongest_cluster(s.view(), 1.0f, 0.9f, true);
+  CHECK(by_mode.strongest.mean.theta == Approx(0.2f).margin(1e-5));
+  CHECK(by_mode.strongest.particles == 70u);
+  CHECK(by_mode.strongest.weight == Approx(0.7f).epsilon(1e-4));
+  // Particles without modes (kUnknownMode everywhere): by mode changes nothing.
+  for (std::uint32_t i = 0; i < 100; ++i) v.mode[i] = est::kUnknownMode;
+  const auto none = est::strongest_cluster(s.view(), 1.0f, 0.9f, true);
+  CHECK(none.strongest.mean.theta == mixed.strongest.mean.theta);
+  CHECK(none.strongest.particles == 100u);
+}

@@ -356,9 +356,10 @@ TEST_CASE("the example parses to simulate's defaults", "[scenario]") {
 }
 
 TEST_CASE("every built-in scenario parses, describes itself and is the file in the repository", "[scenario]") {
-  const std::set<std::string> expected = {"bicycle-exercise", "bicycle-rangefinder", "coop-slam",
-                                          "coop-slam-team",   "diffdrive-landmarks", "diffdrive-script",
-                                          "example",          "kidnapped",           "omni-velocity"};
+  const std::set<std::string> expected = {"bicycle-exercise", "bicycle-rangefinder", "bicycle-rangefinder-global",
+                                          "coop-slam",        "coop-slam-team",      "diffdrive-landmarks",
+                                          "diffdrive-script", "example",             "kidnapped",
+                                          "omni-velocity"};
   std::set<std::string> names;
   for (const sim::BuiltinScenario& b : sim::builtin_scenarios()) {
     INFO(b.name);

@@ -157,6 +157,48 @@ TEST_CASE("bicycle-rangefinder: the steered model tracks the handlebar rangefind
   CHECK(wall < 10.0);
 }
 
+// Issue 37: the handlebar rangefinder from a uniform start. The split (steered_scan.hpp) and the reading's floor were
+// chosen on seeds 1-10; these seeds were never looked at while tuning. Localized (0.5 m, 10 deg, held 2 s) within
+// 10 s in at least 19 of 20, heading RMSE once localized at most 2 deg over the seeds (each at most 3), and at most
+// 0.01 % random particles drawn once localized. Without the per-particle modes none localizes (heading 20-45 deg off).
+TEST_CASE("bicycle-rangefinder-global: the handlebar rangefinder localizes from a uniform start on held-out seeds",
+          "[sim_host_run]") {
+  for (const bool sensor : {false, true}) {
+    sim::ScenarioFile f = sim::load_scenario("bicycle-rangefinder-global");
+    REQUIRE(f.filter.start == sim::StartKind::global);
+    f.scenario.steering_sensor = sensor;  // present: biased, as the scenario's default steering sensor (0.5 deg)
+    const sim::SimWorld world = sim::load_world(f.scenario);
+    int within = 0;
+    double sum_sq = 0.0;
+    int localized = 0;
+    std::uint64_t injected = 0, drawn = 0;
+    for (std::uint64_t seed = 101; seed <= 120; ++seed) {
+      f.scenario.seed = seed;
+      const sim::SimResult r = sim::run_simulation(f.scenario, f.filter, world);
+      const sim::PhaseMetrics& p = r.metrics.phases.at(0);
+      INFO("steering sensor " << sensor << ", seed " << seed << ": localized at " << p.localized_at_s
+                              << " s, heading RMSE " << r.metrics.rmse_heading_deg << " deg");
+      if (p.localized && p.localized_at_s <= 10.0) ++within;
+      if (p.localized) {
+        ++localized;
+        sum_sq += r.metrics.rmse_heading_deg * r.metrics.rmse_heading_deg;
+        CHECK(r.metrics.rmse_heading_deg <= 3.0);
+        injected += p.injected_particles;
+        drawn += p.drawn_particles;
+      }
+    }
+    const double rmse = localized > 0 ? std::sqrt(sum_sq / localized) : 1e9;
+    std::printf("bicycle-rangefinder-global, steering sensor %s: %d / 20 localized within 10 s, heading RMSE %.2f deg, "
+                "%llu injected once localized\n",
+                sensor ? "present" : "absent", within, rmse, static_cast<unsigned long long>(injected));
+    CHECK(within >= 19);
+    CHECK(rmse <= 2.0);
+    // Asked: none. Measured: 2 of 20 seeds without the sensor draw 47 and 84 of ~200000 (0.02-0.04 %) at a handle
+    // change; held here at most 0.01 % over the seeds (issue 37's closing note).
+    CHECK(static_cast<double>(injected) <= 1.0e-4 * static_cast<double>(drawn));
+  }
+}
+
 TEST_CASE("omni-velocity: the mecanum base driving sideways localizes globally through its faults", "[sim_host_run]") {
   double wall = 0.0;
   const sim::SimResult r = run_builtin("omni-velocity", wall);

@@ -654,3 +654,34 @@ TEST_CASE("estimator_node's replay of a recorded run gives the simulator's estim
     CHECK(k > 390u);  // 4 s at 100 Hz
   }
 }
+
+// Issue 37: a filter that does not match the robot's sensors is refused with the reason, before anything runs.
+TEST_CASE("simulate refuses a range model that does not match where the rangefinder is", "[simulate]") {
+  sim::ScenarioConfig sc;
+  sc.robot = sim::RobotKind::bicycle;
+  sc.duration_s = 1.0;
+  sc.faults = {};
+  const sim::SimWorld world = sim::load_world(sc);
+  sim::FilterOptions fo = tracking_filter();
+  const auto reason = [&]() -> std::string {
+    try {
+      sim::run_simulation(sc, fo, world);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "";
+  };
+  // The steered model with the rangefinder fixed on the frame.
+  sc.handlebar = false;
+  fo.range_model = node::RangeModel::steered;
+  CHECK_THAT(reason(), Catch::Contains("fixed on the frame"));
+  // The rangefinder on the handlebar with a fixed-frame model, either of them.
+  sc.handlebar = true;
+  for (const node::RangeModel m : {node::RangeModel::likelihood_field, node::RangeModel::beam}) {
+    fo.range_model = m;
+    CHECK_THAT(reason(), Catch::Contains("on the handlebar"));
+  }
+  // Matched: it runs.
+  fo.range_model = node::RangeModel::steered;
+  CHECK(reason().empty());
+}

@@ -131,3 +131,55 @@ TEST_CASE("a reading never rules a position out: every position keeps at least t
   wider.handle_probabilities(est::loop::ScanContext{s.alphas()[0], true}, more);
   for (std::int32_t i = 1; i < 6; ++i) CHECK(more[i] > probs[i]);
 }
+
+// Injection along the ambiguity (split): a moved particle takes another position m' with the frame turned and moved
+// so that its sensor's pose is the one it had; split_share of the set moves, and a particle without a mode stays.
+TEST_CASE("split moves particles to another handle position that keeps the sensor's pose", "[steered_scan]") {
+  const est::LikelihoodField field;
+  est::loop::SteeredScanConfig c = config(6, 0.05f);
+  c.mount = {0.15f, 0.0f, {0.05f, 0.0f, 0.0f}};
+  c.split_share = 0.25f;
+  Scan s(field, c);
+  static est::AugmentedMcl<64> mcl(est::MclConfig{}, 5u);
+  mcl.initialize_gaussian({2.0f, 3.0f, 0.4f}, 0.1f, 0.1f, 64u);
+  est::ParticleSetView v = mcl.particles_mutable();
+  est::Pose2 before[64];
+  for (std::uint32_t i = 0; i < 64; ++i) {
+    v.mode[i] = i < 60 ? static_cast<std::uint8_t>(i % 6) : est::kUnknownMode;
+    before[i] = v.pose(i);
+  }
+  std::uint8_t mode_before[64];
+  std::copy(v.mode, v.mode + 64, mode_before);
+  const std::uint32_t moved = s.split(mcl);
+  CHECK(moved >= 8u);   // 16 draws (0.25 of 64), some the same particle or one without a mode
+  CHECK(moved <= 17u);
+  CHECK(s.splits() == moved);
+  std::uint32_t changed = 0;
+  for (std::uint32_t i = 0; i < 64; ++i) {
+    INFO("particle " << i);
+    if (i >= 60) {
+      CHECK(v.mode[i] == est::kUnknownMode);
+      CHECK(v.pose(i).x == before[i].x);
+      continue;
+    }
+    if (v.mode[i] == mode_before[i]) {  // not drawn, or drawn twice and back: the pose it had, to rounding
+      CHECK(v.pose(i).theta == Approx(before[i].theta).margin(1e-5));
+      continue;
+    }
+    ++changed;
+    const est::Pose2 was = compose(before[i], est::steered_sensor_mount(c.mount, s.alphas()[mode_before[i]]));
+    const est::Pose2 now = compose(v.pose(i), est::steered_sensor_mount(c.mount, s.alphas()[v.mode[i]]));
+    CHECK(now.x == Approx(was.x).margin(1e-5));
+    CHECK(now.y == Approx(was.y).margin(1e-5));
+    CHECK(std::abs(est::fmath::normalize_angle(now.theta - was.theta)) < 1e-5f);
+    // The frame turned by the handle's difference.
+    CHECK(std::abs(est::fmath::normalize_angle(v.pose(i).theta - before[i].theta -
+                                        (s.alphas()[mode_before[i]] - s.alphas()[v.mode[i]]))) < 1e-5f);
+  }
+  CHECK(changed >= 1u);
+  CHECK(changed <= moved);
+  // The baseline (positions = 0) carries no modes and splits nothing.
+  Scan exact(field, config(0, 0.05f));
+  CHECK(exact.modes() == 0);
+  CHECK(exact.split(mcl) == 0u);
+}

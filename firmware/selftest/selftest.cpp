@@ -26,7 +26,7 @@ constexpr Section kSections[] = {
     {"loop_bicycle", digest_of<section_loop_bicycle>, 0xa82330d1e09e380dull, section_loop_bicycle},
     {"loop_omni", digest_of<section_loop_omni>, 0x3e907e424f4e37b4ull, section_loop_omni},
     {"loop_holonomic", digest_of<section_loop_holonomic>, 0x1c686210d16283bcull, section_loop_holonomic},
-    {"loop_steered", digest_of<section_loop_steered>, 0xdecfbbe8d0ddf03full, section_loop_steered},
+    {"loop_steered", digest_of<section_loop_steered>, 0x36c1b49d602c9e20ull, section_loop_steered},
     {"coop_ekf", section_coop_ekf, 0xc0451a131d4be0f9ull},
 };
 

@@ -110,6 +110,9 @@ std::unique_ptr<LoadedMaps> load_maps(const NodeConfig& c) {
       hal::maps::load_landmark_csv(c.landmarks, m->landmarks);
       m->view.description = c.landmarks + " (" + std::to_string(m->landmarks.size()) + " landmarks)";
     }
+    if (m->landmarks.size() == 0)  // a landmark filter without landmarks would run on odometry alone, silently
+      throw std::runtime_error(std::string(c.spec.filter == est::loop::Filter::ekf ? "--filter ekf" : "--mcl-landmarks") +
+                               " needs landmarks, and " + c.landmarks + " has none");
     m->view.landmarks = m->landmarks.view();
     if (c.spec.filter == est::loop::Filter::ekf) return m;
   }

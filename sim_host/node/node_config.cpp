@@ -234,6 +234,9 @@ void add_options(CLI::App& app, NodeConfig& c) {
       ->capture_default_str()->check(CLI::Range(0, 16))->group(sensor);
   app.add_option("--handle-reading-sigma", e.steered.reading_sigma,
                  "steered: how far to trust the steering reading for p(alpha_m | x) (rad)")->capture_default_str()->group(sensor);
+  app.add_option("--handle-reading-floor", e.steered.floor,
+                 "steered: the least p(alpha_m | reading), how often the reading names a wrong position (lag, bias)")
+      ->capture_default_str()->check(CLI::Range(1.0e-6, 0.5))->group(sensor);
 
   const char* map = "Map and initial belief";
   app.add_option("--map", c.map,
@@ -416,6 +419,9 @@ void finish_options(const CLI::App& app, NodeConfig& c) {
     throw CLI::ValidationError("--slam-gate-new", "at least --slam-gate-accept");
   if (e.range_model == RangeModel::steered && e.model != RobotModel::bicycle)
     throw CLI::ValidationError("--sensor-model", "steered: the handlebar is the bicycle's (--model bicycle)");
+  // A rangefinder on the handlebar read by a fixed-frame model takes every turn of the handle for a turn of the robot.
+  if ((app.count("--handlebar") > 0 || app.count("--handlebar-sensor") > 0) && e.range_model != RangeModel::steered)
+    throw CLI::ValidationError("--handlebar", "mounts the rangefinder on the handlebar: it needs --sensor-model steered");
   if (e.model == RobotModel::omni &&
       e.motion.omni_control.source == est::loop::ControlAssembler<est::OmniMotionModel>::Source::wheels &&
       app.count("--wheel-count") == 0)
@@ -519,7 +525,7 @@ std::string command_line(const EstimatorSpec& e, const std::string& map, const s
     if (e.range_model == RangeModel::steered)
       o += " --handlebar " + f(e.steered.mount.pivot_x) + "," + f(e.steered.mount.pivot_y) + " --handlebar-sensor " +
            pose(e.steered.mount.sensor_on_part) + " --handle-positions " + std::to_string(e.steered.positions) +
-           " --handle-reading-sigma " + f(e.steered.reading_sigma);
+           " --handle-reading-sigma " + f(e.steered.reading_sigma) + " --handle-reading-floor " + f(e.steered.floor);
   }
   if (e.global)
     o += " --global";

@@ -406,6 +406,7 @@ void read_filter(Section& f, FilterOptions& fo) {
   fo.omni_noise = f.numbers("omni_noise", 9, kNoise);
   fo.handle_positions = f.integer_i("handle_positions", fo.handle_positions, 0, 16);
   fo.handle_reading_sigma_rad = f.number_f("handle_reading_sigma_rad", fo.handle_reading_sigma_rad, kPositive);
+  fo.handle_reading_floor = f.number_f("handle_reading_floor", fo.handle_reading_floor, kPositive);
   fo.unknown_steer_sigma_rad = f.number_f("unknown_steer_sigma_rad", fo.unknown_steer_sigma_rad, kPositive);
   fo.clearance_m = f.number_f("clearance_m", fo.clearance_m, kNonNegative);
   fo.alpha_slow = f.number_f("alpha_slow", fo.alpha_slow, kProbability);

@@ -274,7 +274,11 @@ SensorStream generate_stream(const ScenarioConfig& c, const SimWorld& world) {
   s.limits.wheels.wheel_count = c.robot == RobotKind::omni ? 4 : 2;
   s.limits.wheels.counter_bits = kEncoderCounterBits;
   s.limits.wheels.max_ticks_per_s = static_cast<std::uint32_t>(std::ceil(3.0 * wheel_speed_max / s.metres_per_tick));
-  s.limits.steering.max_angle_rad = models.truth.bicycle.steer_max;
+  // The stops plus what the sensor may add there: its bias and 4 sigma of its noise (a sensor that reads past the
+  // stop is biased, not broken; refused, its last reading would stand for the handle while it sits at the stop).
+  s.limits.steering.max_angle_rad =
+      models.truth.bicycle.steer_max +
+      static_cast<float>((std::fabs(c.steering_bias_deg) + 4.0 * c.steering_sigma_deg) * kPi / 180.0);
   s.limits.twist.max_speed_mps = static_cast<float>(3.0 * top_speed);
   s.limits.twist.max_turn_rate_rps = static_cast<float>(2.0 * top_turn);
   s.limits.odometry.max_speed_mps = static_cast<float>(3.0 * top_speed);

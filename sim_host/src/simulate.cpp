@@ -313,6 +313,7 @@ node::EstimatorSpec estimator_spec(const ScenarioConfig& sc, const FilterOptions
   e.steered.steer_max = e.motion.bicycle.steer_max;
   e.steered.positions = fo.handle_positions;
   e.steered.reading_sigma = fo.handle_reading_sigma_rad;
+  e.steered.floor = fo.handle_reading_floor;
   e.field = {0.85f, 0.05f, 0.10f, 0.2f, static_cast<float>(sc.range_max_m), 2.0f};
   e.beam.range_max = static_cast<float>(sc.range_max_m);
   e.beam_stride = fo.beam_stride;
@@ -372,6 +373,15 @@ SimResult run_simulation(const ScenarioConfig& scenario, const FilterOptions& fi
   if (ekf && filter.start == StartKind::global)
     throw std::invalid_argument("--filter ekf tracks from the true start pose (a Gaussian of sigma 0.2 m, 0.1 rad): "
                                 "--start global needs --filter mcl");
+  // No silent mismatch between the robot's sensors and the filter's models (issue 37).
+  if (!ekf && filter.range_model == node::RangeModel::steered && !scenario.handlebar)
+    throw std::invalid_argument("--sensor-model steered is for a rangefinder on the handlebar, and this robot's is "
+                                "fixed on the frame: add --handlebar (rangefinder.mount = \"handlebar\"), or use "
+                                "--sensor-model likelihood-field or beam");
+  if (!ekf && scenario.handlebar && filter.range_model != node::RangeModel::steered)
+    throw std::invalid_argument("the rangefinder is on the handlebar and turns with it: a fixed-frame range model "
+                                "would take every turn of the handle for a turn of the robot; use --sensor-model "
+                                "steered (filter.sensor_model = \"steered\")");
   r.stream = generate_stream(scenario, world);
   if (r.stream.truth.empty()) throw std::invalid_argument("the run has no steps");
   expect_loop_inputs(r.stream, !ekf, ekf);

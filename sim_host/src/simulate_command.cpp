@@ -217,6 +217,9 @@ void add_simulate_command(CLI::App& app) {
       ->capture_default_str()->check(CLI::Range(0, 16));
   c->add_option("--handle-reading-sigma", filter->handle_reading_sigma_rad,
                 "steered: how far the filter trusts the steering reading, rad")->capture_default_str();
+  c->add_option("--handle-reading-floor", filter->handle_reading_floor,
+                "steered: the least probability the reading leaves a handle position (how often it names a wrong one: "
+                "lag, bias)")->capture_default_str()->check(CLI::Range(1.0e-6, 0.5));
   c->add_option("--unknown-steer-sigma", filter->unknown_steer_sigma_rad,
                 "bicycle without a steering sensor: the steering noise of the prediction, rad")->capture_default_str();
   c->add_flag("--no-kld", *no_kld, "keep the particle count fixed (default: KLD-sampling adapts it)");

@@ -37,6 +37,7 @@ struct FilterOptions {
   // exact), how far the filter trusts the reading, and the steering noise while no steering is known.
   std::int32_t handle_positions = 6;
   float handle_reading_sigma_rad = 0.05f;
+  float handle_reading_floor = 0.05f;  // the least p(alpha_m | reading): how often the reading names a wrong position
   float unknown_steer_sigma_rad = 0.3f;
   // The omni model's noise a1..a9 the filter is told, per 10 ms prediction; empty: estimator_node's default
   // (node/estimator_spec.hpp MotionSpec).

@@ -150,6 +150,7 @@ class AugmentedMcl {
       v.x[i] = mean.x + sample_normal(rng_, sigma_xy);
       v.y[i] = mean.y + sample_normal(rng_, sigma_xy);
       v.theta[i] = fmath::normalize_angle(mean.theta + sample_normal(rng_, sigma_theta));
+      v.mode[i] = kUnknownMode;
       v.log_w[i] = lw;
     }
     reset_averages();
@@ -171,7 +172,7 @@ class AugmentedMcl {
         ++counters_.failed_injections;
         p = i > 0 ? v.pose(i - 1) : Pose2{};
       }
-      v.set_pose(i, p);
+      v.set_new(i, p);
       v.log_w[i] = lw;
     }
     reset_averages();
@@ -209,6 +210,42 @@ class AugmentedMcl {
     sample_motion_batch(Model{}, u, p, v.x, v.y, v.theta, v.count, rng_, {scratch.x, scratch.y, scratch.theta});
     ++counters_.predictions;
     return s;
+  }
+
+  // Prediction when the control depends on the particle's mode (the steering of its handle position): particle i is
+  // sampled with u[mode_i] and p[mode_i] for a mode below `modes`, with u[modes] and p[modes] for kUnknownMode (or
+  // any other). u and p hold modes + 1 entries. Controls the model refuses leave their particles as they are; the
+  // status is the worst of the used controls'. Then log p(x | m) as predict_in_map().
+  template <typename Model, typename IsFree>
+  MotionStatus predict_in_map_by_mode(const typename Model::Control* u, const typename Model::Params* p,
+                                      std::uint32_t modes, const IsFree& is_free) {
+    constexpr std::uint32_t kMaxModes = 32u;
+    if (modes >= kMaxModes) return MotionStatus::rejected_range;
+    bool ok[kMaxModes + 1u];
+    MotionStatus worst = MotionStatus::ok;
+    bool any = false;
+    for (std::uint32_t m = 0; m <= modes; ++m) {
+      const MotionStatus s = Model::check(u[m], p[m]);
+      ok[m] = usable(s);
+      if (ok[m]) {
+        any = true;
+        if (s != MotionStatus::ok) worst = s;
+      } else if (m == modes) {
+        worst = s;
+      }
+    }
+    if (!any) {
+      ++counters_.rejected_controls;
+      return worst;
+    }
+    ParticleSetView v = set_.view();
+    for (std::uint32_t i = 0; i < v.count; ++i) {
+      const std::uint32_t m = v.mode[i] < modes ? v.mode[i] : modes;
+      if (ok[m]) v.set_pose(i, Model::sample(v.pose(i), u[m], p[m], rng_));
+    }
+    ++counters_.predictions;
+    penalize_occupied(is_free);
+    return usable(worst) ? worst : MotionStatus::ok;
   }
 
   // Prediction conditioned on the map (Thrun eq. 5.47): as predict(), then log p(x | m) added to each weight.
@@ -278,7 +315,7 @@ class AugmentedMcl {
       for (std::uint32_t k = 0; k < want; ++k) {
         Pose2 p;
         if (draw(rng_, p))
-          out.set_pose(NMax - 1u - n_inject++, p);
+          out.set_new(NMax - 1u - n_inject++, p);
         else
           ++counters_.failed_injections;  // the slot is resampled instead
       }
@@ -290,7 +327,7 @@ class AugmentedMcl {
     // not there already moves (their order does not matter).
     const std::uint32_t tail = NMax - n_inject;
     std::uint32_t dst = n_resampled;
-    for (std::uint32_t src = m > tail ? m : tail; src < NMax; ++src, ++dst) out.set_pose(dst, out.pose(src));
+    for (std::uint32_t src = m > tail ? m : tail; src < NMax; ++src, ++dst) out.copy(dst, src);
     const float lw = -fmath::log(static_cast<float>(m));
     for (std::uint32_t k = 0; k < m; ++k) out.log_w[k] = lw;
     set_.swap_with_scratch(m);
@@ -320,8 +357,8 @@ class AugmentedMcl {
 
   PoseEstimate estimate() const { return weighted_mean(set_.view()); }
   // Its table is the filter's (static storage with the set), sized for NMax: the same clusters as 2048 slots.
-  ClusterEstimate cluster_estimate(float cell = 1.0f) const {
-    return strongest_cluster(set_.view(), cluster_table_, cell);
+  ClusterEstimate cluster_estimate(float cell = 1.0f, bool by_mode = false) const {
+    return strongest_cluster(set_.view(), cluster_table_, cell, 0.9f, by_mode);
   }
 
   ConstParticleSetView particles() const { return set_.view(); }
@@ -329,6 +366,8 @@ class AugmentedMcl {
     ess_valid_ = false;  // the caller may change the weights
     return set_.view();
   }
+  // The particles' modes, for a measurement model that estimates them (the weights stay as they are).
+  std::uint8_t* particle_modes() { return set_.view().mode; }
   const MclCounters& counters() const { return counters_; }
   const MclConfig& config() const { return config_; }
   Rng& rng() { return rng_; }
@@ -389,8 +428,8 @@ class AugmentedMcl {
       Pose2 p;
       if (p_inject > 0.0f && rng_.uniform() < p_inject) {
         if (draw(rng_, p)) {
-          out.set_pose(NMax - 1u - n_inject++, p);
-          kld_.add(p.x, p.y, p.theta);
+          out.set_new(NMax - 1u - n_inject++, p);
+          kld_.add(p.x, p.y, p.theta, kUnknownMode);
           continue;
         }
         ++counters_.failed_injections;  // a weighted draw instead
@@ -405,7 +444,7 @@ class AugmentedMcl {
         len -= half;
       }
       if (!(cdf[lo] > u) && lo + 1u < v.count) ++lo;  // rounding: the last particle absorbs what is left
-      kld_.add(v.x[lo], v.y[lo], v.theta[lo]);
+      kld_.add(v.x[lo], v.y[lo], v.theta[lo], v.mode[lo]);
     }
     return n;
   }

@@ -36,14 +36,27 @@ inline std::uint32_t comb_host(ConstParticleSetView in, ParticleSetView out, std
   float* __restrict ox = out.x;
   float* __restrict oy = out.y;
   float* __restrict ot = out.theta;
+  const std::uint8_t* __restrict im = in.mode;
+  std::uint8_t* __restrict om = out.mode;
   std::uint32_t i = 0;
   float c = e[0];
-  for (std::uint32_t k = 0; k < m; ++k) {
-    const float u = r + static_cast<float>(k) * inv_m;
-    while (u > c && i + 1u < in.count) c += e[++i];
-    ox[k] = ix[i];
-    oy[k] = iy[i];
-    ot[k] = it[i];
+  if (im != nullptr && om != nullptr) {
+    for (std::uint32_t k = 0; k < m; ++k) {
+      const float u = r + static_cast<float>(k) * inv_m;
+      while (u > c && i + 1u < in.count) c += e[++i];
+      ox[k] = ix[i];
+      oy[k] = iy[i];
+      ot[k] = it[i];
+      om[k] = im[i];
+    }
+  } else {
+    for (std::uint32_t k = 0; k < m; ++k) {
+      const float u = r + static_cast<float>(k) * inv_m;
+      while (u > c && i + 1u < in.count) c += e[++i];
+      ox[k] = ix[i];
+      oy[k] = iy[i];
+      ot[k] = it[i];
+    }
   }
   for (std::uint32_t k = 0; k < m; ++k) e[k] = log_uniform;
   return m;
@@ -75,6 +88,7 @@ inline std::uint32_t low_variance_sampler(ConstParticleSetView in, ParticleSetVi
     out.x[k] = in.x[i];
     out.y[k] = in.y[i];
     out.theta[k] = in.theta[i];
+    if (in.mode != nullptr && out.mode != nullptr) out.mode[k] = in.mode[i];
     out.log_w[k] = log_uniform;
   }
   return m;

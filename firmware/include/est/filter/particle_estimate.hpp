@@ -89,9 +89,13 @@ constexpr std::uint32_t cluster_slots(std::uint32_t n) {
 // The strongest cluster: particles are binned on a coarse grid of `cell` metres (the table's cells); the heaviest
 // cell and its eight neighbours form the cluster. Two passes over the particles, each probe sequence bounded by
 // Slots, and one over the table to clear it: bounded time, no heap. Cells beyond Slots/2 join no cluster seed.
+// by_mode (a set whose particles carry modes, est/filter/particle_set.hpp): the cluster is further cut to its
+// heaviest mode (modes from 32 up, and kUnknownMode, count as one), one more pass. Particles of one place and
+// different modes are different hypotheses (the steered rangefinder's: the frame's heading differs by the handle's
+// angle between them), and their mean would be neither.
 template <std::uint32_t Slots>
 ClusterEstimate strongest_cluster(ConstParticleSetView s, ClusterTable<Slots>& table, float cell = 1.0f,
-                                  float dominance = 0.9f) {
+                                  float dominance = 0.9f, bool by_mode = false) {
   ClusterEstimate out;
   out.overall = weighted_mean(s);
   std::int32_t* cx = table.cx;
@@ -133,19 +137,33 @@ ClusterEstimate strongest_cluster(ConstParticleSetView s, ClusterTable<Slots>& t
     out.strongest = out.overall;
     return out;
   }
-  out.strongest = detail::weighted_estimate(s, [&](std::uint32_t i) {
+  const auto in_cluster = [&](std::uint32_t i) {
     const std::int32_t dx = kld_bin(s.x[i], cell) - bx, dy = kld_bin(s.y[i], cell) - by;
     return dx >= -1 && dx <= 1 && dy >= -1 && dy <= 1;
-  });
+  };
+  if (by_mode && s.mode != nullptr) {
+    constexpr std::uint32_t kModes = 33u;  // 0..31, and the rest
+    const auto mode_of = [&](std::uint32_t i) { return s.mode[i] < kModes - 1u ? s.mode[i] : kModes - 1u; };
+    float mw[kModes] = {};
+    for (std::uint32_t i = 0; i < s.count; ++i)
+      if (in_cluster(i)) mw[mode_of(i)] += fmath::exp(s.log_w[i]);
+    std::uint32_t bm = 0;
+    for (std::uint32_t m = 1; m < kModes; ++m)
+      if (mw[m] > mw[bm]) bm = m;
+    out.strongest = detail::weighted_estimate(s, [&](std::uint32_t i) { return mode_of(i) == bm && in_cluster(i); });
+  } else {
+    out.strongest = detail::weighted_estimate(s, in_cluster);
+  }
   out.multimodal = out.strongest.weight < dominance;
   return out;
 }
 
 // The same with a table on the stack (Slots x 13 bytes).
 template <std::uint32_t Slots = 2048>
-ClusterEstimate strongest_cluster(ConstParticleSetView s, float cell = 1.0f, float dominance = 0.9f) {
+ClusterEstimate strongest_cluster(ConstParticleSetView s, float cell = 1.0f, float dominance = 0.9f,
+                                  bool by_mode = false) {
   ClusterTable<Slots> table;
-  return strongest_cluster(s, table, cell, dominance);
+  return strongest_cluster(s, table, cell, dominance, by_mode);
 }
 
 }  // namespace est
