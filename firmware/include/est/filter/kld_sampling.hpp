@@ -9,6 +9,7 @@
 // table, no allocation; every loop is bounded by the table or by n_max.
 #include <cstdint>
 
+#include "est/filter/particle_set.hpp"
 #include "est/math/fmath.hpp"
 
 namespace est {
@@ -112,9 +113,9 @@ class KldStoppingRule {
   }
   // A particle's mode (particle_set.hpp) is a dimension of the bins too: the same pose in two handle positions is
   // two hypotheses, each owed its samples. kUnknownMode (a filter without modes) leaves the pose's bin as it is.
-  void add(float x, float y, float theta, std::uint8_t mode = 0xFFu) {
+  void add(float x, float y, float theta, std::uint8_t mode = kUnknownMode) {
     std::int32_t it = kld_bin(theta, cfg_.bin_theta);
-    if (mode != 0xFFu) it = it * 32 + static_cast<std::int32_t>(mode & 31u) + (1 << 20);
+    if (mode != kUnknownMode) it = it * 32 + static_cast<std::int32_t>(mode & 31u) + (1 << 20);
     if (bins_.insert(kld_bin(x, cfg_.bin_xy), kld_bin(y, cfg_.bin_xy), it) &&
         bins_.count() > 1u)
       required_ = kld_sample_count(bins_.count(), cfg_.epsilon, cfg_.z_one_minus_delta);

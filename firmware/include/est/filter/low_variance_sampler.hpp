@@ -14,6 +14,24 @@ namespace est {
 #if !defined(__arm__)
 namespace low_variance_sampler_detail {
 
+// The comb's walk over the exponentiated weights e, copying each drawn particle (and its mode when kMode).
+template <bool kMode>
+inline void comb_copy(const float* __restrict e, std::uint32_t count, std::uint32_t m, float r, float inv_m,
+                      const float* __restrict ix, const float* __restrict iy, const float* __restrict it,
+                      const std::uint8_t* __restrict im, float* __restrict ox, float* __restrict oy,
+                      float* __restrict ot, std::uint8_t* __restrict om) {
+  std::uint32_t i = 0;
+  float c = e[0];
+  for (std::uint32_t k = 0; k < m; ++k) {
+    const float u = r + static_cast<float>(k) * inv_m;
+    while (u > c && i + 1u < count) c += e[++i];
+    ox[k] = ix[i];
+    oy[k] = iy[i];
+    ot[k] = it[i];
+    if constexpr (kMode) om[k] = im[i];
+  }
+}
+
 // The host's comb: the same pointers, sums and draws as the loop below (the same bits), with the weights' exps taken
 // first, lanes::kLanes at a time (lanes::exp: imath::exp's bits), into out.log_w, which is free until the end (the
 // weights 1/m are written after the comb). Needs in.count <= out.capacity.
@@ -38,26 +56,10 @@ inline std::uint32_t comb_host(ConstParticleSetView in, ParticleSetView out, std
   float* __restrict ot = out.theta;
   const std::uint8_t* __restrict im = in.mode;
   std::uint8_t* __restrict om = out.mode;
-  std::uint32_t i = 0;
-  float c = e[0];
-  if (im != nullptr && om != nullptr) {
-    for (std::uint32_t k = 0; k < m; ++k) {
-      const float u = r + static_cast<float>(k) * inv_m;
-      while (u > c && i + 1u < in.count) c += e[++i];
-      ox[k] = ix[i];
-      oy[k] = iy[i];
-      ot[k] = it[i];
-      om[k] = im[i];
-    }
-  } else {
-    for (std::uint32_t k = 0; k < m; ++k) {
-      const float u = r + static_cast<float>(k) * inv_m;
-      while (u > c && i + 1u < in.count) c += e[++i];
-      ox[k] = ix[i];
-      oy[k] = iy[i];
-      ot[k] = it[i];
-    }
-  }
+  if (im != nullptr && om != nullptr)
+    comb_copy<true>(e, in.count, m, r, inv_m, ix, iy, it, im, ox, oy, ot, om);
+  else
+    comb_copy<false>(e, in.count, m, r, inv_m, ix, iy, it, im, ox, oy, ot, om);
   for (std::uint32_t k = 0; k < m; ++k) e[k] = log_uniform;
   return m;
 }

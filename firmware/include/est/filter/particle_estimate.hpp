@@ -68,6 +68,9 @@ struct ClusterEstimate {
 
 // The strongest cluster's table: an open-addressing table of Slots cells of the coarse grid (a power of two).
 // 13 bytes a slot: a filter keeps its own (AugmentedMcl) rather than putting 26 KiB on the stack at 2048 slots.
+// mode_w: the cluster's weight per mode (by_mode below; modes 0..31 and the rest), here rather than on the step's
+// stack, which the filters without modes would pay for too.
+inline constexpr std::uint32_t kClusterModes = 33u;
 template <std::uint32_t Slots>
 struct ClusterTable {
   static_assert((Slots & (Slots - 1u)) == 0u, "Slots must be a power of two");
@@ -75,6 +78,7 @@ struct ClusterTable {
   std::int32_t cy[Slots];
   float cw[Slots];
   bool taken[Slots];
+  float mode_w[kClusterModes];
 };
 
 // Slots for sets of at most n particles: 2048, or fewer where that cannot change a result. A set of n particles
@@ -142,9 +146,10 @@ ClusterEstimate strongest_cluster(ConstParticleSetView s, ClusterTable<Slots>& t
     return dx >= -1 && dx <= 1 && dy >= -1 && dy <= 1;
   };
   if (by_mode && s.mode != nullptr) {
-    constexpr std::uint32_t kModes = 33u;  // 0..31, and the rest
+    constexpr std::uint32_t kModes = kClusterModes;  // 0..31, and the rest
     const auto mode_of = [&](std::uint32_t i) { return s.mode[i] < kModes - 1u ? s.mode[i] : kModes - 1u; };
-    float mw[kModes] = {};
+    float* mw = table.mode_w;
+    for (std::uint32_t m = 0; m < kModes; ++m) mw[m] = 0.0f;
     for (std::uint32_t i = 0; i < s.count; ++i)
       if (in_cluster(i)) mw[mode_of(i)] += fmath::exp(s.log_w[i]);
     std::uint32_t bm = 0;
