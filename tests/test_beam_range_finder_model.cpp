@@ -86,8 +86,8 @@ TEST_CASE("beam model density matches a double-precision reference of table 6.1"
 }
 
 TEST_CASE("beam model: log_peak is the density of a reading where a correct pose puts it", "[beam_model]") {
-  // The origin of augmented MCL's per-beam recovery statistic (est/loop/beam_scan.hpp beam_scale). Without p_short
-  // (which it leaves out): a reading at its expected range mid-range, and a max reading on a ray with no hit.
+  // Without p_short (which it leaves out): a reading at its expected range mid-range, and a max reading on a ray with
+  // no hit.
   est::BeamModelParams p;
   p.z_hit = 0.85f;
   p.z_short = 0.0f;
@@ -100,6 +100,34 @@ TEST_CASE("beam model: log_peak is the density of a reading where a correct pose
   // Away from z* the density is lower.
   CHECK(m.log_density(6.3f, 6.0f) < m.log_peak(false));
   CHECK(m.log_density(6.0f, p.range_max) < m.log_peak(false));
+}
+
+TEST_CASE("beam model: log_typical is a hit's mean log density, half a nat under the peak for a Gaussian",
+          "[beam_model]") {
+  // The origin of augmented MCL's per-beam recovery statistic (est/loop/beam_scan.hpp beam_scale). A Gaussian's mean
+  // log density is its peak's minus 1/2 (its entropy): with the other components near 0 the mixture's is that.
+  est::BeamModelParams g;
+  g.z_hit = 1.0f - 2e-6f;
+  g.z_short = 1e-6f;
+  g.z_max = 0.0f;
+  g.z_rand = 1e-6f;
+  g.sigma_hit = 0.1f;
+  est::BeamRangeFinderModel m;
+  REQUIRE(m.configure(g) == est::SensorModelStatus::ok);
+  CHECK(m.log_peak(false) - m.log_typical(false) == Approx(0.5).margin(0.005));
+  CHECK(m.log_typical(true) == m.log_peak(true));  // a max reading on a ray with no hit is exact
+  // The default mixture: E[log p(z | z*)] over z ~ N(z*, sigma^2) at z* = range_max / 2, against a fine sum here.
+  est::BeamModelParams p;
+  REQUIRE(m.configure(p) == est::SensorModelStatus::ok);
+  const double z_exp = 0.5 * static_cast<double>(p.range_max), sigma = static_cast<double>(p.sigma_hit);
+  double sum = 0.0, sum_w = 0.0;
+  for (int i = -4000; i <= 4000; ++i) {
+    const double u = i * 0.002, w = std::exp(-0.5 * u * u);
+    sum += w * static_cast<double>(m.log_density(static_cast<float>(z_exp + u * sigma), static_cast<float>(z_exp)));
+    sum_w += w;
+  }
+  CHECK(static_cast<double>(m.log_typical(false)) == Approx(sum / sum_w).margin(2e-3));
+  CHECK(m.log_typical(false) < m.log_peak(false) - 0.3f);  // the short and random parts lift it above peak - 1/2
 }
 
 TEST_CASE("beam model parameters are validated", "[beam_model]") {

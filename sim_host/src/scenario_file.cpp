@@ -392,10 +392,12 @@ std::vector<est::sim::TimedCommand> read_controls(Section& robot, RobotKind mode
 void read_filter(Section& f, FilterOptions& fo) {
   const std::string type = f.choice("type", "mcl", {"mcl", "ekf"});
   fo.filter = type == "ekf" ? est::loop::Filter::ekf : est::loop::Filter::mcl;
-  const std::string start = f.choice("start", type == "ekf" ? "tracking" : "global", {"global", "tracking"});
-  if (type == "ekf" && start == "global")
-    f.fail_key("start", "filter.start: the EKF tracks from the true start pose: 'global' needs filter.type = 'mcl'");
-  fo.start = start == "global" ? StartKind::global : StartKind::tracking;
+  const std::string start =
+      f.choice("start", type == "ekf" ? "tracking" : "global", {"global", "tracking", "wrong"});
+  if (type == "ekf" && start != "tracking")
+    f.fail_key("start", "filter.start: the EKF tracks from the true start pose: '" + start +
+                            "' needs filter.type = 'mcl' (the EKF has no search to leave a wrong belief)");
+  fo.start = start == "global" ? StartKind::global : start == "wrong" ? StartKind::wrong : StartKind::tracking;
   const std::string model = f.choice("sensor_model", "likelihood-field", {"likelihood-field", "beam", "steered"});
   node::parse(model, fo.range_model);
   node::parse(f.choice("beam_cast", "table", {"table", "cone"}), fo.beam_cast);

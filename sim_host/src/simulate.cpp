@@ -203,7 +203,9 @@ SimMetrics compute_metrics(const SensorStream& s, const std::vector<OutputRow>& 
   SimMetrics m;
   const hal::TimeNs t0 = s.truth.front().t_ns;
   std::vector<std::pair<hal::TimeNs, std::string>> starts = {
-      {t0, fo.start == StartKind::global ? "global localization" : "tracking"}};
+      {t0, fo.start == StartKind::global ? "global localization"
+           : fo.start == StartKind::wrong ? "wrong start"
+                                          : "tracking"}};
   if (s.kidnap_ns >= 0) starts.push_back({s.kidnap_ns, "kidnap recovery"});
   double sp = 0.0, sh = 0.0, sp_all = 0.0;
   std::size_t n = 0, n_all = 0;
@@ -220,9 +222,9 @@ SimMetrics compute_metrics(const SensorStream& s, const std::vector<OutputRow>& 
     ph.name = starts[i].second;
     ph.start_s = span_s(from - t0);
     ph.end_s = span_s(std::min(to, s.end_ns) - t0);
-    // A global start is lost from the start, a tracking start never; a kidnapping from the first output off by more
-    // than the bounds (the recovery is timed from there).
-    hal::TimeNs lost = !kidnap && fo.start == StartKind::global ? from : -1;
+    // A global or wrong start is lost from the start, a tracking start never; a kidnapping from the first output off
+    // by more than the bounds (the recovery is timed from there).
+    hal::TimeNs lost = !kidnap && fo.start != StartKind::tracking ? from : -1;
     if (kidnap) {
       for (const OutputRow& row : rows) {
         if (row.t_ns < from || row.t_ns >= to) continue;
@@ -294,6 +296,30 @@ SimMetrics compute_metrics(const SensorStream& s, const std::vector<OutputRow>& 
 
 // The estimator of a run, as estimator_node would be configured for this robot (sim_host record writes the same
 // options for a replay).
+const char* to_string(StartKind k) {
+  switch (k) {
+    case StartKind::global: return "global";
+    case StartKind::tracking: return "tracking";
+    case StartKind::wrong: return "wrong";
+  }
+  return "?";
+}
+
+est::Pose2 wrong_start_pose(const SensorStream& s) {
+  // The route's pose half the run later, or the first after it at least 3 m from the start (the farthest if none):
+  // a pose in free space, heading along the route, where the robot is not.
+  const est::Pose2 start = s.truth.front().pose;
+  const auto dist = [&](const est::Pose2& p) { return std::hypot(p.x - start.x, p.y - start.y); };
+  std::size_t far = 0;
+  for (std::size_t i = s.truth.size() / 2; i < s.truth.size(); ++i) {
+    if (dist(s.truth[i].pose) >= 3.0f) return s.truth[i].pose;
+    if (dist(s.truth[i].pose) > dist(s.truth[far].pose)) far = i;
+  }
+  for (std::size_t i = 0; i < s.truth.size(); ++i)
+    if (dist(s.truth[i].pose) > dist(s.truth[far].pose)) far = i;
+  return s.truth[far].pose;
+}
+
 node::EstimatorSpec estimator_spec(const ScenarioConfig& sc, const FilterOptions& fo, const SensorStream& s) {
   node::EstimatorSpec e;
   e.model = sc.robot;
@@ -327,7 +353,7 @@ node::EstimatorSpec estimator_spec(const ScenarioConfig& sc, const FilterOptions
   e.clearance_m = fo.clearance_m;
   e.cluster_cell_m = 1.0f;
   e.global = fo.filter == est::loop::Filter::mcl && fo.start == StartKind::global;
-  e.initial_pose = s.truth.front().pose;
+  e.initial_pose = fo.start == StartKind::wrong ? wrong_start_pose(s) : s.truth.front().pose;
   const bool ekf = fo.filter == est::loop::Filter::ekf;
   e.initial_sigma_xy_m = ekf ? fo.ekf_start_sigma_xy_m : 0.2f;
   e.initial_sigma_theta_rad = ekf ? fo.ekf_start_sigma_theta_rad : 0.1f;

@@ -198,9 +198,10 @@ void add_simulate_command(CLI::App& app) {
       ->check(CLI::IsMember({"mcl", "ekf"}))
       ->capture_default_str();
   c->add_option("--start", *start,
-                "global (uniform over the free space; MCL only) or tracking (around the true start); default: global "
-                "for MCL, tracking for the EKF")
-      ->check(CLI::IsMember({"global", "tracking"}));
+                "global (uniform over the free space; MCL only), tracking (around the true start) or wrong (the "
+                "same confident Gaussian around a pose the robot is not at, the route's pose at least 3 m away half the "
+                "run later; MCL only); default: global for MCL, tracking for the EKF")
+      ->check(CLI::IsMember({"global", "tracking", "wrong"}));
   c->add_option("--particles", filter->particles, "initial particles (at most 20000)")->capture_default_str();
   c->add_option_function<std::string>(
        "--sensor-model", [filter](const std::string& v) { node::parse(v, filter->range_model); },
@@ -264,9 +265,12 @@ void add_simulate_command(CLI::App& app) {
       fo = *filter;
       const bool ekf = *filter_kind == "ekf";
       fo.filter = ekf ? est::loop::Filter::ekf : est::loop::Filter::mcl;
-      if (ekf && *start == "global")
-        throw CLI::ValidationError("--start", "the EKF tracks from the true start pose: --start global needs --filter mcl");
-      fo.start = *start == "tracking" || (ekf && start->empty()) ? StartKind::tracking : StartKind::global;
+      if (ekf && (*start == "global" || *start == "wrong"))
+        throw CLI::ValidationError("--start", "the EKF tracks from the true start pose: --start " + *start +
+                                                  " needs --filter mcl");
+      fo.start = *start == "tracking" || (ekf && start->empty()) ? StartKind::tracking
+                 : *start == "wrong"                            ? StartKind::wrong
+                                                                : StartKind::global;
       if (ekf && kidnap_opt->count() == 0) f.scenario.kidnap_at_s = -1.0;  // an EKF cannot recover: none unless asked
       fo.kld = !*no_kld;
     }

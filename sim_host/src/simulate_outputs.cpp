@@ -405,7 +405,7 @@ std::string metrics_json(const SimResult& r, const ScenarioConfig& sc, const Fil
                    {"estimator", r.description},
                    {"range_model", node::to_string(fo.range_model)},
                    {"handle_positions", fo.range_model == node::RangeModel::steered ? fo.handle_positions : 0},
-                   {"start", fo.start == StartKind::global ? "global" : "tracking"},
+                   {"start", to_string(fo.start)},
                    {"particles", fo.particles},
                    {"kld", fo.kld},
                    {"kld_min", fo.kld_min},

@@ -146,6 +146,10 @@ struct SimResult {
   std::map<std::string, int> observed_counts() const;
 };
 
+// The pose a wrong start (StartKind::wrong) believes the robot at, confidently: the route's pose half the run later,
+// or the first after it at least 3 m from the true start (the farthest pose of the route if none is).
+est::Pose2 wrong_start_pose(const SensorStream& stream);
+
 // The estimator of a run, as estimator_node is configured for this robot (record writes the same as options).
 node::EstimatorSpec estimator_spec(const ScenarioConfig& scenario, const FilterOptions& filter,
                                    const SensorStream& stream);

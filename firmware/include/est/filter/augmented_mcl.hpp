@@ -20,10 +20,11 @@
 // several nats from one scan to the next while the filter is exactly right (range noise, the share of max readings
 // and of beams on clutter, K itself); w_slow, a linear average, sits near the best recent scans, so with 60 beams
 // w_fast / w_slow was ~e^-5 on an ordinary scan and the injection ran at its cap while tracking (1.8 million random
-// particles in the office demo). When the caller states the measurement's scale (MeasurementScale: K factors, each
-// at most e^log_peak) the averages take instead the per-beam fit of the predictive likelihood
-//     f_t = log(w_avg) / K - log_peak     (<= 0; 0: every beam at the mode of its density),
-// exp(f_t) being the geometric mean over the beams of p(z_k | x) / max p. Why this statistic:
+// particles in the office demo). When the caller states the measurement's scale (MeasurementScale: K factors and the
+// origin log_peak, what one factor of a correct pose scores) the averages take instead the per-beam fit of the
+// predictive likelihood
+//     f_t = min(0, log(w_avg) / K - log_peak)     (0: every beam as well as a correct pose's),
+// exp(f_t) being the geometric mean over the beams of p(z_k | x) / e^log_peak. Why this statistic:
 //  - per beam, its scan-to-scan spread falls like 1/sqrt(K) instead of growing like sqrt(K): in the office demo it
 //    is -0.11 +- 0.08 while tracking; kidnapped, the old cloud misses most beams and f drops to -2..-3.4; on a
 //    look-alike pose (the 180-degree corridor) it stays at -0.4..-1, where a share-of-beams test sees almost
@@ -31,9 +32,13 @@
 //  - it has an absolute origin, so the averages start at a perfect fit (f = 0) at every initialization instead of
 //    at the first scan: from the uniform cloud's first scan (the worst of a run) any later hypothesis looked like an
 //    improvement, and a filter settled on the corridor look-alike never injected again (the 12.1 s failure);
-//  - the filter computes it from what it has (w_avg): the model owes only K and an upper bound of one factor's log
-//    density (LikelihoodField::log_term_max(); the beam model's largest mixture density; a marginalized model's
-//    largest component): no expectation, no per-beam work, one division per scan. Any likelihood <= K log_peak works.
+//  - the filter computes it from what it has (w_avg): the model owes only K and its origin, computed once
+//    (LikelihoodField::log_term_max(), the field's mode; a marginalized model's largest component; the beam model's
+//    typical hit, BeamRangeFinderModel::log_typical(), half a nat under its peak: its sigma_hit is the sensor's, so
+//    a correct pose scores the Gaussian's mean log density, not its mode. Measured from the beam model's peak a
+//    filter tracking exactly scored -0.4 to -0.6 a beam, and from the start's perfect fit w_slow took 10-20 s to
+//    come down: 14-21 % of the particles drawn while localized were random): no per-beam work, one division per
+//    scan. A scan that fits better than the origin counts as the origin.
 // INJECTION (line 13, gated). p_8.3 = max(0, 1 - e^band w_fast / w_slow), capped. With a scale it applies only
 // when the deficit d_t = log w_slow - f_t of the scan calls for it:
 //  - fine, d_t <= band: never (w_fast may still lag a scan that already fits);
@@ -119,9 +124,10 @@ struct MclCounters {
 };
 
 // What the recovery statistic needs from a measurement model: how many factors p(z_k | x) its likelihood multiplies
-// (the beams that entered the product: max readings skipped) and an upper bound of one factor's log density (its
-// mode), e.g. LikelihoodField::log_term_max(). factors < 0: unknown, the book's statistic; 0: nothing was measured
-// (every beam a max reading), the averages are left as they are.
+// (the beams that entered the product: max readings skipped) and what one factor's log density is at a correct pose
+// (the origin of the fit: LikelihoodField::log_term_max(), its mode; BeamRangeFinderModel::log_typical(), a hit's
+// mean). factors < 0: unknown, the book's statistic; 0: nothing was measured (every beam a max reading), the
+// averages are left as they are.
 struct MeasurementScale {
   std::int32_t factors = -1;
   float log_peak = 0.0f;
@@ -468,7 +474,7 @@ class AugmentedMcl {
       return r;
     }
     float f = n.log_sum / static_cast<float>(scale.factors) - scale.log_peak;
-    if (f > 0.0f) f = 0.0f;  // rounding: no particle fits better than the peak
+    if (f > 0.0f) f = 0.0f;  // as well as a correct pose: no better (the origin of the averages)
     r.fit = f;
     per_beam_ = true;
     const float fast_before = log_w_fast_;

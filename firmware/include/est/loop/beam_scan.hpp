@@ -27,13 +27,14 @@
 namespace est::loop {
 
 // The scale of the beam model's product for augmented MCL's recovery statistic (est/filter/augmented_mcl.hpp): every
-// beam is a factor (table 6.1 weighs max readings too), the origin the mean of the beams' log_peak.
+// beam is a factor (table 6.1 weighs max readings too), the origin the mean of the beams' typical log density at a
+// correct pose (BeamRangeFinderModel::log_typical: a hit's expectation, not the density's peak, which no scan reaches).
 inline MeasurementScale beam_scale(const ScanBeams& beams, const BeamRangeFinderModel& model) {
   if (beams.count <= 0) return {0, 0.0f};
   std::int32_t n_max = 0;
   for (std::int32_t k = 0; k < beams.count; ++k) n_max += beams.is_max[k] != 0u ? 1 : 0;
-  const float sum = static_cast<float>(n_max) * model.log_peak(true) +
-                    static_cast<float>(beams.count - n_max) * model.log_peak(false);
+  const float sum = static_cast<float>(n_max) * model.log_typical(true) +
+                    static_cast<float>(beams.count - n_max) * model.log_typical(false);
   return {beams.count, sum / static_cast<float>(beams.count)};
 }
 
