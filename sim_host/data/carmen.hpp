@@ -138,15 +138,22 @@ struct CarmenEvalOptions {
   // --min-translation 1e-4 there.
   double min_translation_m = 0.03;
   float sigma_hit_m = 0.1f;         // the likelihood field's
+  float z_rand = 0.05f;             // the likelihood field's (z_max 0.05, z_hit the rest)
+  // Augmented MCL's recovery (est::MclConfig), for the global runs (and tracking with tracking_recovery).
+  float max_injection_fraction = 0.5f;
+  float recovery_lost_deficit = 1.0f;
+  float recovery_dead_band = 0.15f;
+  std::uint32_t recovery_patience = 10u;
   bool tracking = true;
   bool tracking_recovery = false;   // tracking with augmented MCL's random particles (table 8.3) or plain MCL
-  int global_starts = 5;            // 0: no global localization
+  int global_starts = 20;           // 0: no global localization; spread evenly over the slice
   std::uint32_t global_particles = 10000;
   double global_seconds = 150.0;    // log time each global run gets
   double global_success_m = 0.5;
   double global_success_rad = 0.3;
   double global_hold_s = 10.0;
   double global_kept_fraction = 0.9;
+  bool mrpt_export = false;         // each global run's slice as a CARMEN log for MRPT, and its corrected poses
   bool learn_beam_model = true;
   std::int32_t em_beam_stride = 4;
   bool plots = true;
@@ -162,6 +169,8 @@ struct CarmenMethodResult {
 
 struct CarmenGlobalRun {
   double start_s = 0.0;       // log time of the first scan
+  std::size_t start_scan = 0;  // its index among the log's scans
+  std::uint32_t injected_particles = 0;  // augmented MCL's random particles over the run
   bool localized = false;
   double time_to_localize_s = 0.0;
   double kept_fraction = 0.0;  // of the scans from the localization on, those within the success bounds
@@ -187,6 +196,9 @@ struct CarmenEval {
   std::vector<CarmenGlobalRun> global;
   double global_success_rate = 0.0;
   double global_mean_time_s = 0.0;  // over the successful runs
+  double global_max_time_s = 0.0;   // over the successful runs
+  std::uint32_t global_particles = 0;
+  double global_seconds = 0.0;      // log time each global run gets
   CarmenBeamModel beam;
   std::string log_path;
   double duration_s = 0.0;          // log time of the slice

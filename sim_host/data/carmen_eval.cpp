@@ -18,6 +18,7 @@
 #include "est/map/ray_casting.hpp"
 #include "hal/maps/ros_map_loader.hpp"
 #include "maps/learn_intrinsic_parameters.hpp"
+#include "node/estimator_pipeline.hpp"
 #include "node/node.hpp"
 #include "sim/plot.hpp"
 
@@ -67,6 +68,7 @@ Trajectory dead_reckoning(const CarmenLog& log) {
 struct NodeRun {
   Trajectory estimates;
   std::uint32_t rejects = 0;
+  std::uint32_t injected = 0;  // MCL's random particles (augmented MCL's recovery)
   double run_time_s = 0.0;
 };
 
@@ -87,7 +89,7 @@ NodeRun run_mcl(const std::string& log_path, const Trajectory& reference, const 
   s.motion.odometry = {o.odometry_noise[0], o.odometry_noise[1], o.odometry_noise[2], o.odometry_noise[3],
                        static_cast<float>(o.min_translation_m)};
   s.sensor_mount = import.mount;
-  s.field = {0.90f, 0.05f, 0.05f, o.sigma_hit_m, import.geometry.range_max_m, 2.0f};
+  s.field = {1.0f - 0.05f - o.z_rand, 0.05f, o.z_rand, o.sigma_hit_m, import.geometry.range_max_m, 2.0f};
   s.beam.range_max = import.geometry.range_max_m;
   s.beam_stride = o.beam_stride;
   s.timing.predict_period_ns = static_cast<std::int64_t>(std::llround(1.0e9 / o.predict_hz));
@@ -95,6 +97,10 @@ NodeRun run_mcl(const std::string& log_path, const Trajectory& reference, const 
   s.seed = seed;
   s.global = global;
   s.mcl.recovery = global || o.tracking_recovery;
+  s.mcl.max_injection_fraction = o.max_injection_fraction;
+  s.mcl.recovery_lost_deficit = o.recovery_lost_deficit;
+  s.mcl.recovery_dead_band = o.recovery_dead_band;
+  s.mcl.recovery_patience = o.recovery_patience;
   if (!global) {
     const TimedPose& x0 = reference.front();
     s.initial_pose = {static_cast<float>(x0.x), static_cast<float>(x0.y), static_cast<float>(x0.theta)};
@@ -107,6 +113,7 @@ NodeRun run_mcl(const std::string& log_path, const Trajectory& reference, const 
     node::Node n(c);
     if (n.run() != 0) throw std::runtime_error("estimator_node's replay of " + log_path + " failed");
     r.rejects = n.rejects_total();
+    if (const est::MclCounters* m = n.pipeline().mcl_counters(); m != nullptr) r.injected = m->injected_particles;
     std::FILE* f = std::fopen((out_path + ".summary.txt").c_str(), "w");
     if (f != nullptr) {
       n.print_summary(f);
@@ -231,6 +238,42 @@ void write_plots(const CarmenEval& ev, const CarmenLog& log, const std::vector<T
   sim::run_gnuplot(d / "errors.gp", d / "errors.png");
 }
 
+// The slice as MRPT's tools read it (scripts/carmen-vs-mrpt): a CARMEN log of ROBOTLASER1 lines, whose robot pose is
+// the raw odometry at the scan (interpolated in the imported odometry, as the MCL runs see it; the corrected logs'
+// FLASER lines carry the corrected pose in both of their poses, which carmen2rawlog would hand MRPT as odometry),
+// whose laser pose is that pose composed with the mount, and a ground-truth file of the corrected poses, "t x y
+// theta" per scan. MRPT lays a scan's beams symmetrically over its field of view, so the field of view is
+// (n - 1) increments and the laser pose turns by the offset of the beams' centre from the mount's heading.
+void write_mrpt_slice(const CarmenLog& part, const est::Pose2& mount, const fs::path& stem) {
+  std::ofstream f(stem.string() + ".carmen.log");
+  std::ofstream gt(stem.string() + ".gt.txt");
+  f.precision(9);
+  gt.precision(12);
+  f << "# written by sim_host eval carmen for MRPT: ROBOTLASER1 with the raw odometry as the robot pose\n";
+  for (const CarmenScan& s : part.scans) {
+    TimedPose o;
+    if (part.odometry.empty()) break;
+    if (!interpolate(part.odometry, s.t_ns, 1000000000000LL, o))  // before the first odometry pose or after the last
+      o = s.t_ns < part.odometry.front().t_ns ? part.odometry.front() : part.odometry.back();
+    const std::size_t n = s.ranges.size();
+    if (n < 2) continue;
+    const double inc = static_cast<double>(s.geometry.angle_increment_rad);
+    const double mx = static_cast<double>(mount.x), my = static_cast<double>(mount.y);
+    const double fov = inc * static_cast<double>(n - 1);
+    const double centre = static_cast<double>(s.geometry.angle_min_rad) + 0.5 * fov;
+    const double c = std::cos(o.theta), sn = std::sin(o.theta);
+    const double lx = o.x + c * mx - sn * my, ly = o.y + sn * mx + c * my;
+    const double lth = wrap_angle(o.theta + static_cast<double>(mount.theta) + centre);
+    const double t = static_cast<double>(s.t_ns) * 1e-9;
+    f << "ROBOTLASER1 0 " << -0.5 * fov << " " << fov << " " << inc << " " << s.geometry.range_max_m << " 0.01 0 " << n;
+    for (const float r : s.ranges)
+      f << " " << (std::isfinite(r) ? std::min(r, s.geometry.range_max_m) : s.geometry.range_max_m);
+    f << " 0 " << lx << " " << ly << " " << lth << " " << o.x << " " << o.y << " " << o.theta << " 0 0 0 0 0 " << t
+      << " est " << t << "\n";
+    gt << t << " " << s.reference.x << " " << s.reference.y << " " << s.reference.theta << "\n";
+  }
+}
+
 }  // namespace
 
 // The first scan from which the estimate is close at every scan of the next global_hold_s and at
@@ -326,10 +369,13 @@ CarmenEval eval_carmen(const std::string& path, const CarmenEvalOptions& o) {
       const std::string slice = (fs::path(o.out_dir) / ("global-" + std::to_string(g) + ".lcmlog")).string();
       write_carmen_log(data, slice, io, quiet);
       const CarmenLog part = read_carmen_log(slice);
+      if (o.mrpt_export) write_mrpt_slice(part, ev.import.mount, fs::path(o.out_dir) / ("global-" + std::to_string(g)));
       const std::uint64_t seed = o.seed + 101u * static_cast<std::uint64_t>(g + 1);
       const NodeRun r = run_mcl(slice, part.reference, ev.map, ev.import, o, true, seed,
                                 (fs::path(o.out_dir) / ("mcl-global-" + std::to_string(g) + ".lcmlog")).string());
       CarmenGlobalRun run = judge_global_localization(r.estimates, part.reference, o);
+      run.start_scan = first + j;
+      run.injected_particles = r.injected;
       run.run_time_s = r.run_time_s;
       ev.global.push_back(run);
       global_estimates.push_back(r.estimates);
@@ -338,9 +384,14 @@ CarmenEval eval_carmen(const std::string& path, const CarmenEvalOptions& o) {
     int ok = 0;
     double t = 0.0;
     for (const CarmenGlobalRun& g : ev.global)
-      if (g.localized) ++ok, t += g.time_to_localize_s;
+      if (g.localized) {
+        ++ok, t += g.time_to_localize_s;
+        ev.global_max_time_s = std::max(ev.global_max_time_s, g.time_to_localize_s);
+      }
     ev.global_success_rate = static_cast<double>(ok) / static_cast<double>(ev.global.size());
     ev.global_mean_time_s = ok > 0 ? t / ok : 0.0;
+    ev.global_particles = o.global_particles;
+    ev.global_seconds = o.global_seconds;
   }
   if (o.learn_beam_model) {
     ev.beam = learn_beam(log, ev.map, data.mount, o);
@@ -365,6 +416,8 @@ nlohmann::json to_json(const CarmenEval& ev) {
   nlohmann::json global = nlohmann::json::array();
   for (const CarmenGlobalRun& g : ev.global)
     global.push_back({{"start_s", g.start_s},
+                      {"start_scan", g.start_scan},
+                      {"injected_particles", g.injected_particles},
                       {"localized", g.localized},
                       {"time_to_localize_s", g.time_to_localize_s},
                       {"kept_fraction", g.kept_fraction},
@@ -392,8 +445,13 @@ nlohmann::json to_json(const CarmenEval& ev) {
             {"endpoints_on_walls", ev.map.endpoints_on_walls},
             {"build_s", ev.map.build_s}}},
           {"methods", methods},
-          {"global", {{"runs", global}, {"success_rate", ev.global_success_rate},
-                      {"mean_time_to_localize_s", ev.global_mean_time_s}}},
+          {"global", {{"starts", ev.global.size()},
+                      {"particles", ev.global_particles},
+                      {"seconds_per_run", ev.global_seconds},
+                      {"runs", global},
+                      {"success_rate", ev.global_success_rate},
+                      {"mean_time_to_localize_s", ev.global_mean_time_s},
+                      {"max_time_to_localize_s", ev.global_max_time_s}}},
           {"beam_model",
            {{"learned", b.learned},
             {"z_hit", b.z_hit},
@@ -439,7 +497,17 @@ void add_carmen_eval(CLI::App& eval) {
   cmd->add_option("--min-translation", o->min_translation_m, "odometry model: below this per step, a turn (m)")
       ->capture_default_str();
   cmd->add_option("--sigma-hit", o->sigma_hit_m, "likelihood field's hit spread (m)")->capture_default_str();
-  cmd->add_option("--global-starts", o->global_starts, "global runs, starts spread over the slice (0: none)")
+  cmd->add_option("--z-rand", o->z_rand, "likelihood field's z_rand (z_max 0.05, z_hit the rest)")
+      ->capture_default_str();
+  cmd->add_option("--max-injection", o->max_injection_fraction, "augmented MCL: at most this share injected")
+      ->capture_default_str();
+  cmd->add_option("--lost-deficit", o->recovery_lost_deficit, "augmented MCL: a deficit this large injects at once")
+      ->capture_default_str();
+  cmd->add_option("--dead-band", o->recovery_dead_band, "augmented MCL: no injection within this deficit")
+      ->capture_default_str();
+  cmd->add_option("--patience", o->recovery_patience, "augmented MCL: corrections a milder deficit must last")
+      ->capture_default_str();
+  cmd->add_option("--global-starts", o->global_starts, "global runs, their starts spread evenly over the slice (0: none)")
       ->capture_default_str();
   cmd->add_option("--global-particles", o->global_particles, "MCL's particles for global localization")
       ->capture_default_str();
@@ -451,6 +519,9 @@ void add_carmen_eval(CLI::App& eval) {
       ->capture_default_str();
   cmd->add_option("--success-kept", o->global_kept_fraction, "... and at this fraction of the scans to the run's end")
       ->capture_default_str();
+  cmd->add_flag("--mrpt-export", o->mrpt_export,
+                "also write each global run's slice for MRPT (global-N.carmen.log, global-N.gt.txt; "
+                "scripts/carmen-vs-mrpt)");
   cmd->add_flag("--tracking-recovery", o->tracking_recovery, "tracking with augmented MCL's random particles");
   cmd->add_flag("--no-tracking", [o](std::int64_t) { o->tracking = false; }, "skip MCL tracking");
   cmd->add_flag("--no-em", [o](std::int64_t) { o->learn_beam_model = false; }, "skip the beam model's EM");
@@ -474,9 +545,9 @@ void add_carmen_eval(CLI::App& eval) {
     print_table(stdout, {"method", "RMSE xy (m)", "RMSE theta (rad)", "max xy (m)", "scans", "rejects", "run time (s)"},
                 rows);
     if (!ev.global.empty()) {
-      std::printf("\nglobal localization (%u particles; success: within %.2f m and %.2f rad for %.0f s, and at %.0f %% of "
-                  "the scans to the end)\n",
-                  o->global_particles, o->global_success_m, o->global_success_rad, o->global_hold_s,
+      std::printf("\nglobal localization (%zu starts, %u particles; success: within %.2f m and %.2f rad for %.0f s, and "
+                  "at %.0f %% of the scans to the end)\n",
+                  ev.global.size(), o->global_particles, o->global_success_m, o->global_success_rad, o->global_hold_s,
                   100.0 * o->global_kept_fraction);
       std::vector<std::vector<std::string>> g;
       for (const CarmenGlobalRun& r : ev.global)
@@ -486,8 +557,10 @@ void add_carmen_eval(CLI::App& eval) {
                      r.localized ? fixed(r.after.rmse_xy_m, 3) : "-", fixed(r.run_time_s, 1)});
       print_table(stdout, {"start (s)", "localized", "time to localize (s)", "kept after", "RMSE xy after (m)",
                            "run time (s)"}, g);
-      std::printf("  success rate %.0f %%, mean time to localize %.1f s\n", 100.0 * ev.global_success_rate,
-                  ev.global_mean_time_s);
+      std::printf("  success rate %.0f %% (%zu of %zu), mean time to localize %.1f s, max %.1f s\n",
+                  100.0 * ev.global_success_rate,
+                  static_cast<std::size_t>(std::lround(ev.global_success_rate * static_cast<double>(ev.global.size()))),
+                  ev.global.size(), ev.global_mean_time_s, ev.global_max_time_s);
     }
     if (ev.beam.learned) {
       const CarmenBeamModel& b = ev.beam;
