@@ -250,9 +250,9 @@ void write_mrpt_slice(const CarmenLog& part, const est::Pose2& mount, const fs::
   f.precision(9);
   gt.precision(12);
   f << "# written by sim_host eval carmen for MRPT: ROBOTLASER1 with the raw odometry as the robot pose\n";
+  if (part.odometry.empty()) return;
   for (const CarmenScan& s : part.scans) {
     TimedPose o;
-    if (part.odometry.empty()) break;
     if (!interpolate(part.odometry, s.t_ns, 1000000000000LL, o))  // before the first odometry pose or after the last
       o = s.t_ns < part.odometry.front().t_ns ? part.odometry.front() : part.odometry.back();
     const std::size_t n = s.ranges.size();
@@ -557,10 +557,11 @@ void add_carmen_eval(CLI::App& eval) {
                      r.localized ? fixed(r.after.rmse_xy_m, 3) : "-", fixed(r.run_time_s, 1)});
       print_table(stdout, {"start (s)", "localized", "time to localize (s)", "kept after", "RMSE xy after (m)",
                            "run time (s)"}, g);
-      std::printf("  success rate %.0f %% (%zu of %zu), mean time to localize %.1f s, max %.1f s\n",
-                  100.0 * ev.global_success_rate,
-                  static_cast<std::size_t>(std::lround(ev.global_success_rate * static_cast<double>(ev.global.size()))),
-                  ev.global.size(), ev.global_mean_time_s, ev.global_max_time_s);
+      const auto localized = std::count_if(ev.global.begin(), ev.global.end(),
+                                           [](const CarmenGlobalRun& r) { return r.localized; });
+      std::printf("  success rate %.0f %% (%td of %zu), mean time to localize %.1f s, max %.1f s\n",
+                  100.0 * ev.global_success_rate, localized, ev.global.size(), ev.global_mean_time_s,
+                  ev.global_max_time_s);
     }
     if (ev.beam.learned) {
       const CarmenBeamModel& b = ev.beam;

@@ -167,6 +167,24 @@ SimWorld load_grid_world(const ScenarioConfig& config) {
 
 bool has_landmarks(const ScenarioConfig& config) { return config.map_yaml.empty() || !config.landmarks_csv.empty(); }
 
+const char* to_string(StartKind k) {
+  switch (k) {
+    case StartKind::global: return "global";
+    case StartKind::tracking: return "tracking";
+    case StartKind::wrong: return "wrong";
+  }
+  return "?";
+}
+
+bool parse(const std::string& s, StartKind& out) {
+  for (const StartKind k : {StartKind::global, StartKind::tracking, StartKind::wrong})
+    if (s == to_string(k)) {
+      out = k;
+      return true;
+    }
+  return false;
+}
+
 SimWorld load_world(const ScenarioConfig& config) {
   SimWorld w = load_grid_world(config);
   if (!config.landmarks_csv.empty()) {

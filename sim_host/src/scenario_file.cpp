@@ -397,7 +397,7 @@ void read_filter(Section& f, FilterOptions& fo) {
   if (type == "ekf" && start != "tracking")
     f.fail_key("start", "filter.start: the EKF tracks from the true start pose: '" + start +
                             "' needs filter.type = 'mcl' (the EKF has no search to leave a wrong belief)");
-  fo.start = start == "global" ? StartKind::global : start == "wrong" ? StartKind::wrong : StartKind::tracking;
+  parse(start, fo.start);
   const std::string model = f.choice("sensor_model", "likelihood-field", {"likelihood-field", "beam", "steered"});
   node::parse(model, fo.range_model);
   node::parse(f.choice("beam_cast", "table", {"table", "cone"}), fo.beam_cast);

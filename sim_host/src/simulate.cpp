@@ -294,32 +294,21 @@ SimMetrics compute_metrics(const SensorStream& s, const std::vector<OutputRow>& 
   return m;
 }
 
-// The estimator of a run, as estimator_node would be configured for this robot (sim_host record writes the same
-// options for a replay).
-const char* to_string(StartKind k) {
-  switch (k) {
-    case StartKind::global: return "global";
-    case StartKind::tracking: return "tracking";
-    case StartKind::wrong: return "wrong";
-  }
-  return "?";
-}
-
 est::Pose2 wrong_start_pose(const SensorStream& s) {
   // The route's pose half the run later, or the first after it at least 3 m from the start (the farthest if none):
   // a pose in free space, heading along the route, where the robot is not.
   const est::Pose2 start = s.truth.front().pose;
-  const auto dist = [&](const est::Pose2& p) { return std::hypot(p.x - start.x, p.y - start.y); };
+  const auto dist = [&](std::size_t i) { return std::hypot(s.truth[i].pose.x - start.x, s.truth[i].pose.y - start.y); };
+  for (std::size_t i = s.truth.size() / 2; i < s.truth.size(); ++i)
+    if (dist(i) >= 3.0f) return s.truth[i].pose;
   std::size_t far = 0;
-  for (std::size_t i = s.truth.size() / 2; i < s.truth.size(); ++i) {
-    if (dist(s.truth[i].pose) >= 3.0f) return s.truth[i].pose;
-    if (dist(s.truth[i].pose) > dist(s.truth[far].pose)) far = i;
-  }
-  for (std::size_t i = 0; i < s.truth.size(); ++i)
-    if (dist(s.truth[i].pose) > dist(s.truth[far].pose)) far = i;
+  for (std::size_t i = 1; i < s.truth.size(); ++i)
+    if (dist(i) > dist(far)) far = i;
   return s.truth[far].pose;
 }
 
+// The estimator of a run, as estimator_node would be configured for this robot (sim_host record writes the same
+// options for a replay).
 node::EstimatorSpec estimator_spec(const ScenarioConfig& sc, const FilterOptions& fo, const SensorStream& s) {
   node::EstimatorSpec e;
   e.model = sc.robot;

@@ -268,9 +268,8 @@ void add_simulate_command(CLI::App& app) {
       if (ekf && (*start == "global" || *start == "wrong"))
         throw CLI::ValidationError("--start", "the EKF tracks from the true start pose: --start " + *start +
                                                   " needs --filter mcl");
-      fo.start = *start == "tracking" || (ekf && start->empty()) ? StartKind::tracking
-                 : *start == "wrong"                            ? StartKind::wrong
-                                                                : StartKind::global;
+      fo.start = ekf ? StartKind::tracking : StartKind::global;  // the default, when --start is not given
+      parse(*start, fo.start);
       if (ekf && kidnap_opt->count() == 0) f.scenario.kidnap_at_s = -1.0;  // an EKF cannot recover: none unless asked
       fo.kld = !*no_kld;
     }

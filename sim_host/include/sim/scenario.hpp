@@ -30,7 +30,8 @@ inline constexpr RobotKind kRobots[] = {RobotKind::bicycle,  RobotKind::diff_dri
 // global: uniform over the free space; tracking: a Gaussian around the true start; wrong: the same Gaussian around a
 // pose the robot is not at (wrong_start_pose()), a confident wrong belief the filter must notice and leave (MCL).
 enum class StartKind { global, tracking, wrong };
-const char* to_string(StartKind k);  // "global", "tracking", "wrong"
+const char* to_string(StartKind k);                   // "global", "tracking", "wrong"
+bool parse(const std::string& s, StartKind& out);  // the same names; false (out untouched) for any other
 
 // Injected faults by stream and class, e.g. {"scan.stale", 2}. Keys: <stream>.<class> with stream in wheel_ticks,
 // steering, twist, odometry, scan, landmarks; fault_catalogue() lists every key with what it does and how the HAL or
